@@ -1,0 +1,133 @@
+#include "api/object_reader.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace granulab::api {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string type_name(const nlohmann::json& j) { return j.type_name(); }
+
+}  // namespace
+
+ObjectReader::ObjectReader(const nlohmann::json& parent, const std::string& key, const std::string& path)
+    : path_(path) {
+  const auto it = parent.find(key);
+  if (it == parent.end() || it->is_null()) {
+    object_ = nlohmann::json::object();
+  } else if (!it->is_object()) {
+    throw SpecError("wrong_type", path, "'" + path + "' must be an object, got " + type_name(*it));
+  } else {
+    object_ = *it;
+  }
+}
+
+ObjectReader::ObjectReader(const nlohmann::json& document) {
+  if (!document.is_object())
+    throw SpecError("wrong_type", "", "the spec must be a JSON object, got " + type_name(document));
+  object_ = document;
+}
+
+const nlohmann::json* ObjectReader::find(const std::string& key) {
+  seen_.insert(key);
+  const auto it = object_.find(key);
+  return it == object_.end() || it->is_null() ? nullptr : &*it;
+}
+
+double ObjectReader::number(const std::string& key, double fallback, double lo, double hi, bool lo_open) {
+  const std::string range = (lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + "]";
+  double v = fallback;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_number())
+      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a number in " + range + ", got " + type_name(*j));
+    v = j->get<double>();
+  }
+  if (!std::isfinite(v) || v > hi || v < lo || (lo_open && v == lo))
+    throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be in " + range + ", got " + fmt(v));
+  normalized_[key] = v;
+  return v;
+}
+
+long ObjectReader::integer(const std::string& key, long fallback, long lo, long hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  long v = fallback;
+  if (const nlohmann::json* j = find(key)) {
+    const bool integral = j->is_number_integer() || (j->is_number_float() && std::floor(j->get<double>()) == j->get<double>() &&
+                                                     std::abs(j->get<double>()) < 1e15);
+    if (!integral)
+      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an integer in " + range + ", got " +
+                                                    (j->is_number() ? j->dump() : type_name(*j)));
+    v = j->is_number_integer() ? j->get<long>() : long(j->get<double>());
+  }
+  if (v < lo || v > hi)
+    throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be in " + range + ", got " + std::to_string(v));
+  normalized_[key] = v;
+  return v;
+}
+
+std::string ObjectReader::choice(const std::string& key, const std::string& fallback,
+                                 std::initializer_list<const char*> allowed) {
+  std::string list;
+  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  std::string v = fallback;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_string())
+      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be one of: " + list + ", got " + type_name(*j));
+    v = j->get<std::string>();
+  }
+  for (const char* a : allowed)
+    if (v == a) {
+      normalized_[key] = v;
+      return v;
+    }
+  throw SpecError("invalid_value", field(key), "'" + field(key) + "' must be one of: " + list + ", got '" + v + "'");
+}
+
+std::string ObjectReader::text(const std::string& key, const std::string& fallback, std::size_t max_length) {
+  std::string v = fallback;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_string()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a string, got " + type_name(*j));
+    v = j->get<std::string>();
+  }
+  if (v.size() > max_length)
+    throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be at most " + std::to_string(max_length) + " characters");
+  normalized_[key] = v;
+  return v;
+}
+
+std::vector<double> ObjectReader::numbers(const std::string& key, const std::vector<double>& fallback, double lo,
+                                          double hi, std::size_t max_items) {
+  std::vector<double> v = fallback;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of numbers");
+    if (j->size() > max_items)
+      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
+    v.clear();
+    for (const auto& e : *j) {
+      if (!e.is_number()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must hold only numbers");
+      v.push_back(e.get<double>());
+    }
+  }
+  for (double x : v)
+    if (!std::isfinite(x) || x < lo || x > hi)
+      throw SpecError("out_of_range", field(key),
+                      "'" + field(key) + "' values must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(x));
+  normalized_[key] = v;
+  return v;
+}
+
+nlohmann::json ObjectReader::finish() {
+  for (auto it = object_.begin(); it != object_.end(); ++it)
+    if (!seen_.count(it.key()))
+      throw SpecError("unknown_field", field(it.key()), "unknown field '" + field(it.key()) + "'");
+  return normalized_;
+}
+
+}  // namespace granulab::api

@@ -1,0 +1,46 @@
+// Reads one JSON object of a spec: typed fields with defaults and allowed ranges, and an error for
+// every key it was not asked about (a typo must not silently fall back to a default).
+#pragma once
+
+#include <initializer_list>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/spec_error.h"
+
+namespace granulab::api {
+
+class ObjectReader {
+ public:
+  /// `parent` holds the object under `key` (absent = empty object). `path` prefixes field names.
+  ObjectReader(const nlohmann::json& parent, const std::string& key, const std::string& path);
+  /// Reads the whole document (path "").
+  explicit ObjectReader(const nlohmann::json& document);
+
+  /// A number in [lo, hi] (or (lo, hi] with lo_open), stored into the normalised output.
+  double number(const std::string& key, double fallback, double lo, double hi, bool lo_open = false);
+  long integer(const std::string& key, long fallback, long lo, long hi);
+  std::string choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> allowed);
+  std::string text(const std::string& key, const std::string& fallback, std::size_t max_length);
+  /// An array of numbers each in [lo, hi], at most max_items.
+  std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, double lo, double hi,
+                              std::size_t max_items);
+  /// Marks a key as known (it is read elsewhere, e.g. a nested object).
+  void known(const std::string& key) { seen_.insert(key); }
+
+  /// Throws on unknown keys; returns the object with every default filled in.
+  nlohmann::json finish();
+
+  std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ private:
+  const nlohmann::json* find(const std::string& key);
+  nlohmann::json object_;
+  std::string path_;
+  std::set<std::string> seen_;
+  nlohmann::json normalized_ = nlohmann::json::object();
+};
+
+}  // namespace granulab::api

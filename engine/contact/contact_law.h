@@ -1,0 +1,63 @@
+// The contact law shared by sphere-sphere and sphere-wall contacts (MODEL.md, "Contact law"):
+//   normal      F_n = k_n delta n - c_n v_n                         (paper eq. 3, plus viscous damping)
+//   tangential  xi <- rotate(xi into the current tangent plane) + v_t dt
+//               F_t = -k_t xi - c_t v_t,  |F_t| <= f |F_n|  (on slip xi is reset to match the cap)
+// the "Hooke with shear history" model (Cundall & Strack 1979; Silbert et al. 2001, Phys. Rev. E 64,
+// 051302; Zhang & Makse 2005), which the paper ran in LAMMPS' granular package.
+// Damping is a ratio zeta of the critical value for the pair: c_n = 2 zeta sqrt(k_n m_eff), so the
+// normal coefficient of restitution is e = exp(-pi zeta / sqrt(1 - zeta^2)); c_t = c_n / 2.
+#pragma once
+
+#include <cmath>
+
+#include "engine/core/types.h"
+
+namespace granulab {
+
+struct ContactLaw {
+  double normal_stiffness = 0;      ///< k_n (N/m)
+  double tangential_stiffness = 0;  ///< k_t (N/m)
+  double damping_ratio = 0;         ///< zeta, fraction of critical damping of one pair (-)
+  double friction = 0;              ///< Coulomb coefficient f (-)
+};
+
+struct ContactForce {
+  Vec3 force;    ///< force on the first body (N)
+  double normal; ///< signed normal force magnitude, compressive positive (N)
+  bool sliding;  ///< true when the Coulomb cap was active
+};
+
+/// Force on body i from a contact with unit normal `n` (pointing from j to i), overlap `delta` > 0 (m),
+/// relative velocity of i with respect to j at the contact point `v_rel` (m/s), effective mass (kg),
+/// time step `dt` (s). Updates the shear history `xi` (m) in place.
+inline ContactForce contact_force(const ContactLaw& law, const Vec3& n, double delta, const Vec3& v_rel,
+                                  double m_eff, double dt, Vec3& xi) {
+  const double c_n = 2 * law.damping_ratio * std::sqrt(law.normal_stiffness * m_eff);
+  const double c_t = c_n / 2;
+  const double vn = v_rel.dot(n);
+  const Vec3 v_t = v_rel - vn * n;
+  const double fn = law.normal_stiffness * delta - c_n * vn;
+
+  // Keep the history in the current tangent plane with its length unchanged (the plane rotates
+  // with the contact; the spring must neither grow nor shrink from that rotation).
+  const double xi_len2 = xi.squaredNorm();
+  if (xi_len2 > 0) {
+    xi -= xi.dot(n) * n;
+    const double proj2 = xi.squaredNorm();
+    if (proj2 > 0) xi *= std::sqrt(xi_len2 / proj2);
+  }
+  xi += v_t * dt;
+
+  Vec3 ft = -law.tangential_stiffness * xi - c_t * v_t;
+  const double cap = law.friction * std::abs(fn);
+  const double ft2 = ft.squaredNorm();
+  bool sliding = false;
+  if (ft2 > cap * cap) {
+    sliding = true;
+    if (ft2 > 0) ft *= cap / std::sqrt(ft2);
+    xi = law.tangential_stiffness > 0 ? Vec3(-(ft + c_t * v_t) / law.tangential_stiffness) : Vec3::Zero();
+  }
+  return {fn * n + ft, fn, sliding};
+}
+
+}  // namespace granulab

@@ -1,0 +1,67 @@
+#include "engine/dynamics/integrator.h"
+
+#include <cmath>
+
+namespace granulab {
+
+namespace {
+
+// Rotate the body about its own principal axis k for time h: angle phi = L_k/I_k h. The body frame
+// turns by phi, so the body-frame momentum turns by -phi about the same axis.
+void rotate_about_axis(int k, double h, const Vec3& inertia, Quat& q, Vec3& lb) {
+  const double phi = lb[k] / inertia[k] * h;
+  const double c = std::cos(phi), s = std::sin(phi);
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  const double li = lb[i], lj = lb[j];
+  lb[i] = c * li + s * lj;
+  lb[j] = -s * li + c * lj;
+  Vec3 axis = Vec3::Zero();
+  axis[k] = 1;
+  q = q * Quat(Eigen::AngleAxisd(phi, axis));
+}
+
+}  // namespace
+
+void kick(Bodies& b, double h) {
+  const long n = long(b.size());
+#pragma omp parallel for schedule(static) if (n > 256)
+  for (long k = 0; k < n; ++k) {
+    if (b.motion[k] != Motion::dynamic) continue;
+    b.velocity[k] += b.force[k] / b.mass[k] * h;
+    b.angular_momentum[k] += b.torque[k] * h;
+  }
+}
+
+void drift(Bodies& b, double dt) {
+  const long n = long(b.size());
+#pragma omp parallel for schedule(static) if (n > 256)
+  for (long k = 0; k < n; ++k) {
+    b.position[k] += b.velocity[k] * dt;
+    Quat& q = b.orientation[k];
+    if (b.motion[k] == Motion::dynamic) {
+      Vec3 lb = q.conjugate() * b.angular_momentum[k];
+      const Vec3& in = b.inertia[k];
+      rotate_about_axis(0, dt / 2, in, q, lb);
+      rotate_about_axis(1, dt / 2, in, q, lb);
+      rotate_about_axis(2, dt, in, q, lb);
+      rotate_about_axis(1, dt / 2, in, q, lb);
+      rotate_about_axis(0, dt / 2, in, q, lb);
+      q.normalize();
+      b.angular_velocity[k] = q * lb.cwiseQuotient(in);
+    } else {
+      const Vec3& w = b.angular_velocity[k];
+      const double angle = w.norm() * dt;
+      if (angle > 0) q = (Quat(Eigen::AngleAxisd(angle, w.normalized())) * q).normalized();
+    }
+  }
+}
+
+void update_angular_velocity(Bodies& b) {
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    if (b.motion[k] != Motion::dynamic) continue;
+    const Quat& q = b.orientation[k];
+    b.angular_velocity[k] = q * (q.conjugate() * b.angular_momentum[k]).cwiseQuotient(b.inertia[k]);
+  }
+}
+
+}  // namespace granulab

@@ -1,0 +1,55 @@
+// A grain template: the body-frame sphere clump of one grain shape, shared (flyweight) by every grain
+// of that shape in a simulation. Sphere centres lie on the inner polyhedron (faces recessed by d/2),
+// N_e per edge with spacing s = d(1-kappa), on a structured grid of spacing s on every face
+// (MODEL.md, "Grains: rigid clumps of overlapping spheres").
+#pragma once
+
+#include <vector>
+
+#include "engine/core/types.h"
+#include "engine/geometry/polyhedron.h"
+
+namespace granulab {
+
+struct GrainGeometry {
+  Shape shape = Shape::rhombic_dodecahedron;
+  double size = 0.01;      ///< cube side l, or RD cubic cell a (m)
+  int edge_spheres = 10;   ///< N_e >= 2
+  double overlap = 0.75;   ///< kappa in [0, 1)
+};
+
+/// Sphere diameter d (m): cube eq. 2, d = l/((N_e-1)(1-kappa)+1); RD (MODEL.md reading of eq. 7),
+/// d = a/((4/sqrt3)(N_e-1)(1-kappa) + sqrt2).
+double sphere_diameter(const GrainGeometry& g);
+
+class GrainTemplate {
+ public:
+  /// Builds the clump; throws std::invalid_argument on N_e < 2, kappa outside [0,1) or size <= 0.
+  explicit GrainTemplate(const GrainGeometry& g);
+
+  const GrainGeometry& geometry() const { return geometry_; }
+  const Polyhedron& solid() const { return solid_; }
+  /// Body-frame sphere centres relative to the centroid (m). Index = LocalSphereId.
+  const std::vector<Vec3>& offsets() const { return offsets_; }
+  std::size_t sphere_count() const { return offsets_.size(); }
+  double diameter() const { return diameter_; }
+  double radius() const { return diameter_ / 2; }
+  /// Centre spacing along edges and face grids, s = d(1-kappa) (m).
+  double spacing() const { return spacing_; }
+  /// N_f: spheres whose centres lie under one face (N_e^2).
+  int spheres_per_face() const { return geometry_.edge_spheres * geometry_.edge_spheres; }
+  /// Largest |offset| + d/2 (m): a sphere bounding the whole clump.
+  double bounding_radius() const { return bounding_radius_; }
+  double volume() const { return volume_; }
+  /// Principal moments of inertia per unit density (m^5); the body frame is principal.
+  const Vec3& principal_inertia_per_density() const { return principal_inertia_; }
+
+ private:
+  GrainGeometry geometry_;
+  Polyhedron solid_;
+  double diameter_ = 0, spacing_ = 0, bounding_radius_ = 0, volume_ = 0;
+  Vec3 principal_inertia_ = Vec3::Zero();
+  std::vector<Vec3> offsets_;
+};
+
+}  // namespace granulab

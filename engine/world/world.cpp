@@ -1,0 +1,211 @@
+#include "engine/world/world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/dynamics/integrator.h"
+
+namespace granulab {
+
+namespace {
+
+class StageTimer {
+ public:
+  explicit StageTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() { sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  double& sink_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
+    : grain_(grain), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
+  if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
+  for (const Vec3& o : grain_.offsets()) max_offset_ = std::max(max_offset_, o.norm());
+}
+
+BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion motion) {
+  const BodyId id = bodies_.add(x, q, density * grain_.volume(), density * grain_.principal_inertia_per_density(), motion);
+  sphere_pos_.resize(bodies_.size() * grain_.sphere_count());
+  built_ = false;
+  return id;
+}
+
+std::size_t World::add_wall(const Wall& wall) {
+  walls_.push_back(wall);
+  walls_.back().normal.normalize();
+  built_ = false;
+  return walls_.size() - 1;
+}
+
+void World::step() {
+  const double dt = settings_.time_step;
+  {
+    StageTimer t(times_.integrate);
+    kick(bodies_, dt / 2);
+    drift(bodies_, dt);
+    for (Wall& w : walls_) w.point += w.velocity * dt;
+  }
+  compute_forces();
+  {
+    StageTimer t(times_.integrate);
+    kick(bodies_, dt / 2);
+  }
+  time_ += dt;
+  ++steps_;
+}
+
+void World::compute_forces() {
+  update_angular_velocity(bodies_);  // in case momenta were set by hand since the last drift
+  update_sphere_positions();
+  if (needs_rebuild()) rebuild();
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    bodies_.force[b] = bodies_.mass[b] * settings_.gravity;
+    bodies_.torque[b].setZero();
+  }
+  sphere_contact_forces();
+  wall_forces();
+}
+
+void World::update_sphere_positions() {
+  StageTimer t(times_.spheres);
+  const auto& offsets = grain_.offsets();
+  const long n_bodies = long(bodies_.size());
+  const std::size_t per_body = offsets.size();
+#pragma omp parallel for schedule(static) if (n_bodies > 8)
+  for (long b = 0; b < n_bodies; ++b) {
+    const Mat3 r = bodies_.orientation[b].toRotationMatrix();
+    const Vec3 x = bodies_.position[b];
+    Vec3* out = sphere_pos_.data() + b * per_body;
+    for (std::size_t i = 0; i < per_body; ++i) out[i] = x + r * offsets[i];
+  }
+}
+
+// A sphere of body b has moved by at most |dx| + max_offset * |R - R0|, with |R - R0| = 2 sin(theta/2)
+// for the rotation angle theta between the two orientations. Sphere-sphere candidates stay valid
+// while both ends moved less than skin/2; sphere-wall ones while sphere plus wall moved less than skin.
+bool World::needs_rebuild() const {
+  if (!built_) return true;
+  const double half = settings_.skin / 2;
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const double c = std::min(1.0, std::abs(bodies_.orientation[b].dot(built_orientation_[b])));
+    const double rot = 2 * std::sqrt(std::max(0.0, 1 - c * c));
+    if ((bodies_.position[b] - built_position_[b]).norm() + max_offset_ * rot > half) return true;
+  }
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    if (std::abs((walls_[w].point - built_wall_point_[w]).dot(walls_[w].normal)) > half) return true;
+  return false;
+}
+
+void World::rebuild() {
+  StageTimer t(times_.rebuild);
+  neighbors_.rebuild(bodies_, sphere_pos_, walls_);
+  built_position_ = bodies_.position;
+  built_orientation_ = bodies_.orientation;
+  built_wall_point_.resize(walls_.size());
+  for (std::size_t w = 0; w < walls_.size(); ++w) built_wall_point_[w] = walls_[w].point;
+  const std::size_t n_pairs = neighbors_.grain_pairs().size();
+  pair_force_.resize(n_pairs);
+  pair_torque_a_.resize(n_pairs);
+  pair_torque_b_.resize(n_pairs);
+  pair_contacts_.resize(n_pairs);
+  pair_sliding_.resize(n_pairs);
+  built_ = true;
+  ++rebuilds_;
+}
+
+void World::sphere_contact_forces() {
+  StageTimer t(times_.contacts);
+  const auto& pairs = neighbors_.grain_pairs();
+  const auto& keys = neighbors_.keys();
+  Vec3* history = neighbors_.history().data();
+  const std::size_t per_body = grain_.sphere_count();
+  const double d = grain_.diameter(), d2 = d * d, radius = grain_.radius(), dt = settings_.time_step;
+  const long n_pairs = long(pairs.size());
+
+#pragma omp parallel for schedule(dynamic, 4) if (n_pairs >= 8)
+  for (long p = 0; p < n_pairs; ++p) {
+    const GrainPair& gp = pairs[p];
+    const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
+    const Vec3 va = bodies_.velocity[gp.a], vb = bodies_.velocity[gp.b];
+    const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
+    const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
+    const double m_eff = ma * mb / (ma + mb);
+    const Vec3* sa = sphere_pos_.data() + gp.a * per_body;
+    const Vec3* sb = sphere_pos_.data() + gp.b * per_body;
+    Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
+    std::uint32_t contacts = 0, sliding = 0;
+    for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
+      const Vec3 r = sa[key_first(keys[k])] - sb[key_second(keys[k])];
+      const double dist2 = r.squaredNorm();
+      if (dist2 >= d2) {
+        history[k].setZero();  // separated: the pair forgets its shear history
+        continue;
+      }
+      const double dist = std::sqrt(dist2);
+      const double delta = d - dist;
+      const Vec3 n = r / dist;
+      const Vec3 c = sa[key_first(keys[k])] - (radius - delta / 2) * n;
+      const Vec3 v_rel = (va + wa.cross(c - xa)) - (vb + wb.cross(c - xb));
+      const ContactForce cf = contact_force(law_, n, delta, v_rel, m_eff, dt, history[k]);
+      force += cf.force;
+      torque_a += (c - xa).cross(cf.force);
+      torque_b -= (c - xb).cross(cf.force);
+      ++contacts;
+      sliding += cf.sliding;
+    }
+    pair_force_[p] = force;
+    pair_torque_a_[p] = torque_a;
+    pair_torque_b_[p] = torque_b;
+    pair_contacts_[p] = contacts;
+    pair_sliding_[p] = sliding;
+  }
+
+  stats_.candidates = keys.size();
+  stats_.contacts = stats_.sliding = 0;
+  for (long p = 0; p < n_pairs; ++p) {
+    const GrainPair& gp = pairs[p];
+    bodies_.force[gp.a] += pair_force_[p];
+    bodies_.force[gp.b] -= pair_force_[p];
+    bodies_.torque[gp.a] += pair_torque_a_[p];
+    bodies_.torque[gp.b] += pair_torque_b_[p];
+    stats_.contacts += pair_contacts_[p];
+    stats_.sliding += pair_sliding_[p];
+  }
+}
+
+void World::wall_forces() {
+  StageTimer t(times_.walls);
+  for (Wall& w : walls_) w.force.setZero();
+  const auto& keys = neighbors_.wall_keys();
+  Vec3* history = neighbors_.wall_history().data();
+  const std::size_t per_body = grain_.sphere_count();
+  const double radius = grain_.radius(), dt = settings_.time_step;
+  stats_.wall_contacts = 0;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    Wall& w = walls_[keys[k] >> 32];
+    const std::size_t s = keys[k] & 0xffffffffu;
+    const BodyId b = BodyId(s / per_body);
+    const double dist = w.distance(sphere_pos_[s]);
+    const double delta = radius - dist;
+    if (delta <= 0) {
+      history[k].setZero();
+      continue;
+    }
+    const Vec3 c = sphere_pos_[s] - dist * w.normal;  // foot of the sphere centre on the plane
+    const Vec3 arm = c - bodies_.position[b];
+    const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
+    const ContactForce cf = contact_force(law_, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
+    bodies_.force[b] += cf.force;
+    bodies_.torque[b] += arm.cross(cf.force);
+    w.force -= cf.force;
+    ++stats_.wall_contacts;
+  }
+}
+
+}  // namespace granulab
