@@ -91,7 +91,7 @@ Spec parse_spec_text(const std::string& text) {
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range 406 for 1e400
     throw SpecError("invalid_json", "", std::string("the spec is not valid JSON: ") + e.what());
   }
   return parse_spec(document);

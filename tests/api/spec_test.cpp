@@ -1,0 +1,400 @@
+// The experiment specification of CONTRACT.md: defaults, normalisation, errors that name the field,
+// and the result formats (curve.csv header, summary.json keys).
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "api/results.h"
+#include "api/spec.h"
+#include "api/spec_error.h"
+
+namespace granulab::api {
+namespace {
+
+using nlohmann::json;
+
+// Copied verbatim from CONTRACT.md, "Experiment specification".
+constexpr const char* kContractCrystalExample = R"({
+  "experiment": "crystal_compression",
+  "label": "ref p0=60kPa",
+  "grain":    {"shape": "rhombic_dodecahedron", "size": 0.01, "edge_spheres": 10, "overlap": 0.75},
+  "material": {"youngs_modulus": 3.0e9, "density": 1200, "friction": 0.35,
+               "tangential_stiffness_ratio": 0.2857, "damping": 0.05},
+  "crystal":  {"grains_x": 8, "rows_z": 18, "layers_y": 6, "knockout": []},
+  "loading":  {"confining_pressure": 60e3, "max_strain": 0.1, "rate_number": 1e-4, "mass_scaling": 1.0},
+  "output":   {"curve_points": 400, "snapshot_strains": [0.0, 0.01, 0.02, 0.04, 0.08]},
+  "run":      {"threads": 0}
+})";
+
+// ---------------------------------------------------------------------------------------------
+// 1. Valid specs and their defaults
+
+TEST(SpecDefaults, TwoCubeSlidingGetsThePaperDefaults) {
+  const Spec spec = parse_spec_text(R"({"experiment": "two_cube_sliding"})");
+  EXPECT_EQ(spec.experiment, Experiment::two_cube_sliding);
+  EXPECT_EQ(spec.label, "");
+  EXPECT_EQ(spec.threads, 0);
+  const TwoCubeParams& tc = spec.two_cube;
+  EXPECT_EQ(tc.grain.shape, Shape::cube);
+  EXPECT_DOUBLE_EQ(tc.grain.size, 0.01);
+  EXPECT_EQ(tc.grain.edge_spheres, 10);
+  EXPECT_DOUBLE_EQ(tc.grain.overlap, 0.75);
+  EXPECT_DOUBLE_EQ(tc.material.friction, 0.3);
+  EXPECT_DOUBLE_EQ(tc.material.youngs_modulus, 3.0e9);
+  EXPECT_DOUBLE_EQ(tc.material.density, 1200);
+  EXPECT_DOUBLE_EQ(tc.prestrain, 0.005);
+  EXPECT_DOUBLE_EQ(tc.max_slide, 0.8);
+  EXPECT_EQ(tc.curve_points, 400);
+}
+
+TEST(SpecDefaults, EmptyObjectIsTwoCubeSliding) {
+  const Spec empty = parse_spec_text("{}");
+  EXPECT_EQ(empty.experiment, Experiment::two_cube_sliding);
+  EXPECT_EQ(empty.normalized.at("experiment"), "two_cube_sliding");
+  const Spec named = parse_spec_text(R"({"experiment": "two_cube_sliding"})");
+  EXPECT_EQ(empty.normalized, named.normalized);
+}
+
+TEST(SpecDefaults, NullValuesMeanTheDefault) {
+  const Spec spec = parse_spec_text(R"({"label": null, "grain": null, "material": {"friction": null}})");
+  EXPECT_EQ(spec.normalized, parse_spec_text("{}").normalized);
+}
+
+TEST(SpecDefaults, ExplicitValuesAreTaken) {
+  const Spec spec = parse_spec_text(R"({"label": "run A",
+      "grain": {"size": 0.02, "edge_spheres": 12.0, "overlap": 0.5},
+      "material": {"friction": 0.5},
+      "loading": {"prestrain": 0.01, "max_slide": 1.0},
+      "output": {"curve_points": 50}, "run": {"threads": 4}})");
+  EXPECT_EQ(spec.label, "run A");
+  EXPECT_EQ(spec.threads, 4);
+  EXPECT_DOUBLE_EQ(spec.two_cube.grain.size, 0.02);
+  EXPECT_EQ(spec.two_cube.grain.edge_spheres, 12);  // 12.0 is an integer value
+  EXPECT_DOUBLE_EQ(spec.two_cube.grain.overlap, 0.5);
+  EXPECT_DOUBLE_EQ(spec.two_cube.material.friction, 0.5);
+  EXPECT_DOUBLE_EQ(spec.two_cube.prestrain, 0.01);
+  EXPECT_DOUBLE_EQ(spec.two_cube.max_slide, 1.0);
+  EXPECT_EQ(spec.two_cube.curve_points, 50);
+}
+
+TEST(SpecDefaults, RangeBoundariesAreAccepted) {
+  // Closed ends are allowed; edge_spheres 2 and 40, overlap 0 and 0.95, friction 0.
+  for (const char* text : {R"({"grain": {"edge_spheres": 2}})", R"({"grain": {"edge_spheres": 40}})",
+                           R"({"grain": {"overlap": 0}})", R"({"grain": {"overlap": 0.95}})",
+                           R"({"material": {"friction": 0}})", R"({"loading": {"prestrain": 0.1}})"}) {
+    SCOPED_TRACE(text);
+    EXPECT_NO_THROW(parse_spec_text(text));
+  }
+}
+
+TEST(SpecDefaults, ContractCrystalExampleParses) {
+  const Spec spec = parse_spec_text(kContractCrystalExample);
+  EXPECT_EQ(spec.experiment, Experiment::crystal_compression);
+  EXPECT_EQ(spec.label, "ref p0=60kPa");
+  EXPECT_EQ(spec.normalized.at("experiment"), "crystal_compression");
+  EXPECT_EQ(spec.normalized.at("grain").at("shape"), "rhombic_dodecahedron");
+  EXPECT_EQ(spec.normalized.at("crystal").at("rows_z"), 18);
+  EXPECT_EQ(spec.normalized.at("crystal").at("knockout"), json::array());
+  EXPECT_EQ(spec.normalized.at("output").at("snapshot_strains"), json({0.0, 0.01, 0.02, 0.04, 0.08}));
+  EXPECT_DOUBLE_EQ(spec.normalized.at("loading").at("confining_pressure").get<double>(), 60e3);
+}
+
+TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
+  // "Every field has the paper's default": the bare crystal spec normalises to the contract example
+  // (label empty, k_t/k_n the exact 2/7 that the example rounds to 0.2857).
+  json expected = json::parse(kContractCrystalExample);
+  expected["label"] = "";
+  expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
+  const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
+  json got = spec.normalized;
+  // Engine knobs that are not in the contract example.
+  got["run"].erase("time_step_factor");
+  got["run"].erase("skin_factor");
+  EXPECT_EQ(got, expected) << got.dump(2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. The normalised spec
+
+TEST(SpecNormalized, TwoCubeContainsEveryDefault) {
+  const json expected = {
+      {"experiment", "two_cube_sliding"},
+      {"label", ""},
+      {"grain", {{"shape", "cube"}, {"size", 0.01}, {"edge_spheres", 10}, {"overlap", 0.75}}},
+      {"material",
+       {{"youngs_modulus", 3.0e9},
+        {"density", 1200.0},
+        {"friction", 0.3},
+        {"tangential_stiffness_ratio", 2.0 / 7},
+        {"damping", 0.05}}},
+      {"loading", {{"prestrain", 0.005}, {"max_slide", 0.8}, {"rate_number", 1e-5}}},
+      {"output", {{"curve_points", 400}}},
+      {"run", {{"threads", 0}, {"time_step_factor", 0.2}, {"skin_factor", 0.1}}},
+  };
+  EXPECT_EQ(parse_spec_text("{}").normalized, expected) << parse_spec_text("{}").normalized.dump(2);
+}
+
+TEST(SpecNormalized, IntegersStayIntegers) {
+  const json n = parse_spec_text(R"({"grain": {"edge_spheres": 12.0}})").normalized;
+  EXPECT_TRUE(n.at("grain").at("edge_spheres").is_number_integer());
+  EXPECT_TRUE(n.at("output").at("curve_points").is_number_integer());
+  EXPECT_TRUE(n.at("run").at("threads").is_number_integer());
+}
+
+TEST(SpecNormalized, RoundTripIsAFixedPoint) {
+  for (const char* text : {"{}", R"({"experiment": "two_cube_sliding"})",
+                           R"({"label": "x", "grain": {"edge_spheres": 6, "overlap": 0.6},
+                               "material": {"friction": 0.123456789}, "run": {"threads": 2}})",
+                           R"({"experiment": "crystal_compression"})", kContractCrystalExample}) {
+    SCOPED_TRACE(text);
+    const Spec first = parse_spec_text(text);
+    // Through the JSON value and through its text (what is stored and hashed).
+    const Spec again = parse_spec(first.normalized);
+    EXPECT_EQ(again.normalized, first.normalized);
+    const Spec from_text = parse_spec_text(first.normalized.dump());
+    EXPECT_EQ(from_text.normalized, first.normalized);
+    EXPECT_EQ(from_text.normalized.dump(), first.normalized.dump());
+    EXPECT_EQ(again.experiment, first.experiment);
+    EXPECT_EQ(again.label, first.label);
+    EXPECT_EQ(again.threads, first.threads);
+    EXPECT_EQ(again.two_cube.grain.edge_spheres, first.two_cube.grain.edge_spheres);
+    EXPECT_EQ(again.two_cube.material.friction, first.two_cube.material.friction);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Errors name the field
+
+struct ErrorCase {
+  const char* name;  ///< gtest name suffix
+  std::string text;  ///< the spec text given to parse_spec_text
+  std::string code;
+  std::string field;
+  std::string mention = "";  ///< extra text what() must hold (the allowed range or choices)
+};
+
+std::ostream& operator<<(std::ostream& os, const ErrorCase& c) { return os << c.name << ": " << c.text; }
+
+const std::vector<ErrorCase> kErrorCases = {
+    // Unknown keys.
+    {"UnknownTopLevelKey", R"({"experimnet": "two_cube_sliding"})", "unknown_field", "experimnet"},
+    {"UnknownNestedKey", R"({"grain": {"edge_sphere": 10}})", "unknown_field", "grain.edge_sphere"},
+    {"UnknownMaterialKey", R"({"material": {"poisson": 0.3}})", "unknown_field", "material.poisson"},
+    {"UnknownRunKey", R"({"run": {"thread": 4}})", "unknown_field", "run.thread"},
+    {"UnknownKeyWithNullValue", R"({"grain": {"edge_sphere": null}})", "unknown_field", "grain.edge_sphere"},
+    {"CrystalSectionInTwoCube", R"({"experiment": "two_cube_sliding", "crystal": {"grains_x": 8}})",
+     "unknown_field", "crystal"},
+    {"CrystalSectionInDefaultExperiment", R"({"crystal": {}})", "unknown_field", "crystal"},
+    {"CrystalLoadingInTwoCube", R"({"loading": {"max_strain": 0.1}})", "unknown_field", "loading.max_strain"},
+    {"SnapshotsInTwoCube", R"({"output": {"snapshot_strains": [0.0]}})", "unknown_field",
+     "output.snapshot_strains"},
+    {"TwoCubeLoadingInCrystal", R"({"experiment": "crystal_compression", "loading": {"prestrain": 0.005}})",
+     "unknown_field", "loading.prestrain"},
+    {"UnknownCrystalKey", R"({"experiment": "crystal_compression", "crystal": {"grain_x": 8}})",
+     "unknown_field", "crystal.grain_x"},
+
+    // Wrong types.
+    {"StringForNumber", R"({"grain": {"size": "0.01"}})", "wrong_type", "grain.size", "(0, 1]"},
+    {"StringForInteger", R"({"grain": {"edge_spheres": "10"}})", "wrong_type", "grain.edge_spheres", "[2, 40]"},
+    {"FloatForInteger", R"({"grain": {"edge_spheres": 10.5}})", "wrong_type", "grain.edge_spheres", "[2, 40]"},
+    {"ObjectForNumber", R"({"material": {"friction": {"value": 0.3}}})", "wrong_type", "material.friction"},
+    {"BoolForNumber", R"({"loading": {"prestrain": true}})", "wrong_type", "loading.prestrain"},
+    {"ArrayForNumber", R"({"output": {"curve_points": [400]}})", "wrong_type", "output.curve_points"},
+    {"ArrayForObjectSection", R"({"grain": [10, 0.75]})", "wrong_type", "grain"},
+    {"StringForObjectSection", R"({"material": "steel"})", "wrong_type", "material"},
+    {"NumberForExperiment", R"({"experiment": 1})", "wrong_type", "experiment"},
+    {"NumberForLabel", R"({"label": 7})", "wrong_type", "label"},
+    {"NumberForShape", R"({"grain": {"shape": 6}})", "wrong_type", "grain.shape"},
+    {"NumberForKnockout", R"({"experiment": "crystal_compression", "crystal": {"knockout": 3}})", "wrong_type",
+     "crystal.knockout"},
+    {"StringInKnockout", R"({"experiment": "crystal_compression", "crystal": {"knockout": ["a"]}})",
+     "wrong_type", "crystal.knockout"},
+
+    // Out of range.
+    {"EdgeSpheresTooFew", R"({"grain": {"edge_spheres": 1}})", "out_of_range", "grain.edge_spheres", "[2, 40]"},
+    {"EdgeSpheresTooMany", R"({"grain": {"edge_spheres": 41}})", "out_of_range", "grain.edge_spheres",
+     "[2, 40]"},
+    {"EdgeSpheresNegative", R"({"grain": {"edge_spheres": -3}})", "out_of_range", "grain.edge_spheres",
+     "[2, 40]"},
+    {"OverlapOne", R"({"grain": {"overlap": 1.0}})", "out_of_range", "grain.overlap", "[0, 0.95]"},
+    {"SizeZero", R"({"grain": {"size": 0}})", "out_of_range", "grain.size", "(0, 1]"},
+    {"FrictionNegative", R"({"material": {"friction": -0.1}})", "out_of_range", "material.friction", "[0, 10]"},
+    {"YoungsModulusZero", R"({"material": {"youngs_modulus": 0}})", "out_of_range", "material.youngs_modulus",
+     "(0, 1e+13]"},
+    {"PrestrainZero", R"({"loading": {"prestrain": 0}})", "out_of_range", "loading.prestrain", "(0, 0.1]"},
+    {"MaxSlideTooLarge", R"({"loading": {"max_slide": 2}})", "out_of_range", "loading.max_slide", "(0, 1.5]"},
+    {"CurvePointsZero", R"({"output": {"curve_points": 0}})", "out_of_range", "output.curve_points",
+     "[1, 100000]"},
+    {"ThreadsNegative", R"({"run": {"threads": -1}})", "out_of_range", "run.threads", "[0, 256]"},
+    {"LabelTooLong", R"({"label": ")" + std::string(201, 'x') + R"("})", "out_of_range", "label", "200"},
+    {"KnockoutNegative", R"({"experiment": "crystal_compression", "crystal": {"knockout": [-1]}})",
+     "out_of_range", "crystal.knockout", "[0, 1e+09]"},
+    {"SnapshotStrainTooLarge",
+     R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0.0, 0.9]}})", "out_of_range",
+     "output.snapshot_strains", "[0, 0.5]"},
+
+    // Invalid choices.
+    {"RhombicDodecahedronInTwoCube", R"({"grain": {"shape": "rhombic_dodecahedron"}})", "invalid_value",
+     "grain.shape", "cube"},
+    {"UnknownShapeInCrystal", R"({"experiment": "crystal_compression", "grain": {"shape": "sphere"}})",
+     "invalid_value", "grain.shape", "rhombic_dodecahedron"},
+    {"UnknownExperiment", R"({"experiment": "triaxial"})", "invalid_value", "experiment", "crystal_compression"},
+
+    // The document itself.
+    {"ArrayDocument", R"([{"experiment": "two_cube_sliding"}])", "wrong_type", ""},
+    {"NumberDocument", "42", "wrong_type", ""},
+    {"StringDocument", R"("two_cube_sliding")", "wrong_type", ""},
+    {"NullDocument", "null", "wrong_type", ""},
+    {"InvalidJson", R"({"experiment": "two_cube_sliding",})", "invalid_json", ""},
+    {"TruncatedJson", R"({"grain": {"size": 0.01})", "invalid_json", ""},
+    {"EmptyText", "", "invalid_json", ""},
+    {"NanLiteral", R"({"grain": {"size": NaN}})", "invalid_json", ""},
+    // 1e400 overflows a double: nlohmann rejects it while parsing (out_of_range 406), which must still
+    // surface as a SpecError, not as a nlohmann exception.
+    {"HugeNumber", R"({"grain": {"size": 1e400}})", "invalid_json", ""},
+    {"HugeNegativeNumber", R"({"material": {"friction": -1e400}})", "invalid_json", ""},
+};
+
+class SpecErrorTest : public ::testing::TestWithParam<ErrorCase> {};
+
+TEST_P(SpecErrorTest, NamesTheField) {
+  const ErrorCase& c = GetParam();
+  try {
+    parse_spec_text(c.text);
+    FAIL() << "no SpecError for " << c.text;
+  } catch (const SpecError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.code, c.code) << what;
+    EXPECT_EQ(e.field, c.field) << what;
+    if (!c.field.empty()) {
+      EXPECT_NE(what.find("'" + c.field + "'"), std::string::npos) << what;
+    }
+    if (!c.mention.empty()) {
+      EXPECT_NE(what.find(c.mention), std::string::npos) << what;
+    }
+  } catch (const std::exception& e) {
+    FAIL() << "expected a SpecError, got another exception: " << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, SpecErrorTest, ::testing::ValuesIn(kErrorCases),
+                         [](const ::testing::TestParamInfo<ErrorCase>& info) { return std::string(info.param.name); });
+
+TEST(SpecErrors, NonFiniteNumberFromCodeIsOutOfRange) {
+  // JSON text cannot hold NaN or infinity, but a document built in C++ can.
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    json doc = {{"grain", {{"size", bad}}}};
+    try {
+      parse_spec(doc);
+      FAIL() << "no SpecError for " << bad;
+    } catch (const SpecError& e) {
+      EXPECT_EQ(e.code, "out_of_range");
+      EXPECT_EQ(e.field, "grain.size");
+    }
+  }
+}
+
+TEST(SpecErrors, ErrorsAreRuntimeErrors) {
+  // Callers that only catch std::runtime_error still see a spec error.
+  EXPECT_THROW(parse_spec_text(R"({"grain": {"edge_spheres": 1}})"), std::runtime_error);
+  EXPECT_THROW(parse_spec(json::array()), SpecError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Result formats
+
+TwoCubeResult handmade_result() {
+  TwoCubeResult r;
+  r.curve = {{0.0, 1.0, 0.3, 1500.0, 450.0}, {0.1, 0.9, 0.27, 1350.0, 405.0}, {0.2, 0.8, 0.24, 1200.0, 360.0}};
+  r.sphere_diameter = 0.001;
+  r.spacing = 0.00025;
+  r.normal_stiffness = 3.0e5;
+  r.p0 = 1500;
+  r.time_step = 1e-7;
+  r.slide_speed = 0.016;
+  r.critical_prestrain = 0.003;
+  r.contact_end_slide = 0.99;
+  r.spheres_per_face = 100;
+  r.spheres = 1000;
+  r.steps = 20000;
+  r.rebuilds = 12;
+  r.wall_seconds = 4.0;
+  r.threads = 2;
+  return r;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST(Results, CurveCsvHeaderAndOneLinePerRow) {
+  const TwoCubeResult r = handmade_result();
+  const std::string csv = curve_csv(r);
+  ASSERT_FALSE(csv.empty());
+  EXPECT_EQ(csv.back(), '\n');
+  const std::vector<std::string> lines = lines_of(csv);
+  ASSERT_EQ(lines.size(), r.curve.size() + 1);
+  EXPECT_EQ(lines[0], "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force");
+  EXPECT_EQ(lines[1], "0,1,0.3,1500,450");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    SCOPED_TRACE(lines[i]);
+    std::istringstream row(lines[i]);
+    std::vector<double> values;
+    for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
+    ASSERT_EQ(values.size(), 5u);
+    const TwoCubeRow& expected = r.curve[i - 1];
+    EXPECT_DOUBLE_EQ(values[0], expected.slide_over_size);
+    EXPECT_DOUBLE_EQ(values[1], expected.normal_over_p0);
+    EXPECT_DOUBLE_EQ(values[2], expected.tangential_over_p0);
+    EXPECT_DOUBLE_EQ(values[3], expected.normal_force);
+    EXPECT_DOUBLE_EQ(values[4], expected.tangential_force);
+  }
+}
+
+TEST(Results, CurveCsvOfEmptyCurveIsTheHeaderAlone) {
+  EXPECT_EQ(curve_csv(TwoCubeResult{}),
+            "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force\n");
+}
+
+TEST(Results, SummaryJsonHasTheContractKeys) {
+  const TwoCubeResult r = handmade_result();
+  const json spec = parse_spec_text("{}").normalized;
+  const json s = summary_json(r, spec);
+  for (const char* key : {"spheres", "grains", "steps", "time_step", "wall_seconds", "threads",
+                          "sphere_steps_per_second", "sphere_diameter", "normal_stiffness", "spheres_per_face"}) {
+    SCOPED_TRACE(key);
+    ASSERT_TRUE(s.contains(key));
+    EXPECT_TRUE(s.at(key).is_number());
+  }
+  EXPECT_EQ(s.at("spheres"), 1000);
+  EXPECT_EQ(s.at("grains"), 2);
+  EXPECT_EQ(s.at("steps"), 20000);
+  EXPECT_DOUBLE_EQ(s.at("time_step").get<double>(), 1e-7);
+  EXPECT_DOUBLE_EQ(s.at("wall_seconds").get<double>(), 4.0);
+  EXPECT_EQ(s.at("threads"), 2);
+  EXPECT_DOUBLE_EQ(s.at("sphere_steps_per_second").get<double>(), 1000.0 * 20000 / 4.0);
+  EXPECT_DOUBLE_EQ(s.at("sphere_diameter").get<double>(), 0.001);
+  EXPECT_DOUBLE_EQ(s.at("normal_stiffness").get<double>(), 3.0e5);
+  EXPECT_EQ(s.at("spheres_per_face"), 100);
+  EXPECT_EQ(s.at("spec"), spec);
+  EXPECT_EQ(s.at("experiment"), "two_cube_sliding");
+}
+
+TEST(Results, SummaryJsonZeroWallTimeGivesZeroRate) {
+  TwoCubeResult r = handmade_result();
+  r.wall_seconds = 0;
+  const json s = summary_json(r, json::object());
+  EXPECT_EQ(s.at("sphere_steps_per_second").get<double>(), 0.0);
+  EXPECT_FALSE(s.dump().empty());  // no inf/NaN that would make the JSON invalid
+}
+
+}  // namespace
+}  // namespace granulab::api
