@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -33,6 +34,10 @@ struct Case {
   int edge_spheres;
   double overlap;
 };
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << to_string(c.shape) << " N_e=" << c.edge_spheres << " kappa=" << c.overlap;
+}
 
 std::string case_name(const testing::TestParamInfo<Case>& info) {
   const Case& c = info.param;

@@ -1,0 +1,38 @@
+# The two commands of the README. Both install what is missing (Debian packages, via apt-get),
+# configure and build first.
+#   make run   - build, then run the two-cube example and say where its curve is
+#   make test  - build, then run every test (ctest)
+BUILD ?= build
+JOBS ?= $(shell nproc)
+DEBIAN_PACKAGES := cmake make g++ pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev \
+                   libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: deps configure build test run bench clean
+
+deps:
+	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing missing Debian packages:" $$missing; \
+	  $(SUDO) apt-get update && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y --no-install-recommends $$missing; \
+	fi
+
+configure: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+run: build
+	$(BUILD)/granulab run examples/two_cube_f03.json --out out/two_cube_f03
+	@echo "curve: out/two_cube_f03/curve.csv   summary: out/two_cube_f03/summary.json"
+	@echo "plot:  /usr/bin/python3 examples/plot_two_cube.py out/two_cube_f03 (needs python3-matplotlib)"
+
+bench: build
+	$(BUILD)/bench/bench_contacts
+
+clean:
+	rm -rf $(BUILD)
