@@ -42,6 +42,9 @@ std::vector<Vec3> unique_points(const std::vector<Vec3>& pts, double tol) {
 GrainTemplate::GrainTemplate(const GrainGeometry& g) : geometry_(g), solid_(Polyhedron::make(g.shape, g.size)) {
   if (g.edge_spheres < 2) throw std::invalid_argument("edge_spheres must be >= 2");
   if (!(g.overlap >= 0 && g.overlap < 1)) throw std::invalid_argument("overlap must be in [0, 1)");
+  const long m = g.edge_spheres - 2;  // closed-form count (MODEL.md), checked before allocating
+  const long count = g.shape == Shape::cube ? 6 * m * m + 12 * m + 8 : 12 * m * m + 24 * m + 14;
+  if (count > 65535) throw std::invalid_argument("edge_spheres too large: a clump holds at most 65535 spheres");
   diameter_ = sphere_diameter(g);
   spacing_ = diameter_ * (1 - g.overlap);
 
@@ -59,7 +62,6 @@ GrainTemplate::GrainTemplate(const GrainGeometry& g) : geometry_(g), solid_(Poly
     }
   }
   offsets_ = unique_points(pts, 1e-6 * spacing_);
-  if (offsets_.size() > 65535) throw std::invalid_argument("clump has more than 65535 spheres");
 
   const MassProperties mp = solid_.mass_properties();
   volume_ = mp.volume;
