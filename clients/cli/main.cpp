@@ -31,7 +31,7 @@ const char* kUsage =
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read spec file '" + path.string() + "'");
+  if (!in) throw std::invalid_argument("cannot read spec file '" + path.string() + "'");
   std::stringstream s;
   s << in.rdbuf();
   return s.str();

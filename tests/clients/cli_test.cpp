@@ -1,0 +1,344 @@
+// End-to-end tests of the command-line tool (CONTRACT.md, "Commands" and "Curves"): the real
+// build/granulab binary runs as a subprocess; its exit status, stdout, stderr and output files are
+// checked. Every run here is a tiny two-cube job (well under a second).
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::string kBinary = GRANULAB_BINARY_DIR "/granulab";
+const std::string kCurveHeader = "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force";
+
+// A two-cube job that runs in a few tens of milliseconds: 2 * (6*2*2 + 12*2 + 8) = 112 spheres.
+constexpr const char* kSmallSpec = R"({
+  "experiment": "two_cube_sliding",
+  "label": "cli test",
+  "grain": {"shape": "cube", "edge_spheres": 4},
+  "material": {"friction": 0.3},
+  "loading": {"rate_number": 1e-3},
+  "output": {"curve_points": 20}
+})";
+
+struct RunResult {
+  int exit_code = -1;  ///< -1 if the process did not exit normally (signal, timeout)
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  ASSERT_TRUE(out.good()) << "cannot write " << path;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<double> csv_numbers(const std::string& line) {
+  std::vector<double> values;
+  std::istringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) {
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || *end != '\0') return {};  // not a number: the caller sees a short row
+    values.push_back(v);
+  }
+  return values;
+}
+
+// Each test gets its own scratch directory under the system temp dir, removed afterwards.
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    dir_ = fs::temp_directory_path() / ("granulab_cli_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  /// Runs build/granulab with `args`; stdout and stderr go to files in the scratch directory.
+  /// A run that takes longer than `timeout` is killed (exit_code -1), so a hang fails instead of blocking.
+  RunResult run(const std::vector<std::string>& args, std::chrono::seconds timeout = std::chrono::seconds(30)) {
+    const fs::path out_path = dir_ / "stdout.txt", err_path = dir_ / "stderr.txt";
+    std::vector<std::string> full{kBinary};
+    full.insert(full.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : full) argv.push_back(a.data());
+    argv.push_back(nullptr);
+
+    const pid_t pid = ::fork();
+    if (pid == 0) {  // child: only async-signal-safe calls until exec
+      const int out_fd = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err_fd = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (out_fd < 0 || err_fd < 0 || ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(err_fd, STDERR_FILENO) < 0) _exit(127);
+      ::close(out_fd);
+      ::close(err_fd);
+      ::chdir(dir_.c_str());  // relative paths a run might create land in the scratch directory
+      ::execv(argv[0], argv.data());
+      _exit(127);
+    }
+    RunResult r;
+    if (pid < 0) {
+      ADD_FAILURE() << "fork failed";
+      return r;
+    }
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    int status = 0;
+    for (;;) {
+      const pid_t done = ::waitpid(pid, &status, WNOHANG);
+      if (done == pid) break;
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        ADD_FAILURE() << "granulab did not finish within " << timeout.count() << " s";
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    return r;
+  }
+
+  fs::path spec_file(const std::string& text, const std::string& name = "spec.json") {
+    const fs::path path = dir_ / name;
+    write_text(path, text);
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// 1. A valid run writes the contract's files
+
+TEST_F(CliTest, ExecStartsTheBinary) {
+  ASSERT_TRUE(fs::exists(kBinary)) << kBinary << " is missing: build the granulab target";
+  const RunResult r = run({"version"});
+  EXPECT_NE(r.exit_code, 127) << "could not execute " << kBinary;
+}
+
+TEST_F(CliTest, RunWritesCurveSummaryAndSnapshots) {
+  const fs::path spec = spec_file(kSmallSpec);
+  const fs::path out = dir_ / "out";
+  const RunResult r = run({"run", spec.string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << "stderr:\n" << r.err;
+
+  EXPECT_TRUE(fs::is_directory(out / "snapshots"));
+  ASSERT_TRUE(fs::is_regular_file(out / "curve.csv"));
+  ASSERT_TRUE(fs::is_regular_file(out / "summary.json"));
+  EXPECT_FALSE(fs::exists(out / "curve.csv.tmp"));
+  EXPECT_FALSE(fs::exists(out / "summary.json.tmp"));
+
+  // curve.csv: the two-cube header first, then curve_points + 1 rows (u = 0 included).
+  const std::vector<std::string> lines = lines_of(slurp(out / "curve.csv"));
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], kCurveHeader);
+  ASSERT_EQ(lines.size(), 1u + 21u);
+  std::vector<std::vector<double>> rows;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    rows.push_back(csv_numbers(lines[i]));
+    ASSERT_EQ(rows.back().size(), 5u) << "row " << i << ": '" << lines[i] << "'";
+    for (double v : rows.back()) EXPECT_TRUE(std::isfinite(v)) << "row " << i;
+  }
+  // The model's exact law at u = 0: P = P0.
+  EXPECT_EQ(rows.front()[0], 0.0);
+  EXPECT_NEAR(rows.front()[1], 1.0, 1e-9);
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_GT(rows[i][0], rows[i - 1][0]) << "slide must increase";
+  EXPECT_NEAR(rows.back()[0], 0.8, 1e-6);  // max_slide default
+
+  // summary.json: the contract's keys with sensible values.
+  const json s = json::parse(slurp(out / "summary.json"));
+  for (const char* key : {"spheres", "grains", "steps", "time_step", "wall_seconds", "threads",
+                          "sphere_steps_per_second", "sphere_diameter", "normal_stiffness", "spheres_per_face"}) {
+    ASSERT_TRUE(s.contains(key)) << "summary.json lacks '" << key << "'";
+    EXPECT_TRUE(s[key].is_number()) << key << " = " << s[key].dump();
+  }
+  EXPECT_EQ(s["spheres"].get<long>(), 2 * (6 * 2 * 2 + 12 * 2 + 8));
+  EXPECT_EQ(s["grains"].get<long>(), 2);
+  EXPECT_EQ(s["spheres_per_face"].get<long>(), 16);
+  EXPECT_GT(s["steps"].get<long>(), 0);
+  EXPECT_GT(s["time_step"].get<double>(), 0);
+  EXPECT_GE(s["wall_seconds"].get<double>(), 0);
+  EXPECT_LT(s["wall_seconds"].get<double>(), 2);
+  EXPECT_GE(s["threads"].get<long>(), 1);
+  EXPECT_GT(s["sphere_steps_per_second"].get<double>(), 0);
+  EXPECT_GT(s["sphere_diameter"].get<double>(), 0);
+  EXPECT_LT(s["sphere_diameter"].get<double>(), 0.01);  // smaller than the grain
+  EXPECT_GT(s["normal_stiffness"].get<double>(), 0);
+  // P0 links the two force columns: normal_force = normal_over_p0 * P0.
+  if (s.contains("p0")) EXPECT_NEAR(rows.front()[3], s["p0"].get<double>(), 1e-9 * s["p0"].get<double>());
+  // The spec that was run is recorded, normalised.
+  ASSERT_TRUE(s.contains("spec"));
+  EXPECT_EQ(s["spec"]["grain"]["edge_spheres"], 4);
+  EXPECT_DOUBLE_EQ(s["spec"]["material"]["friction"].get<double>(), 0.3);
+  EXPECT_EQ(s["spec"]["output"]["curve_points"], 20);
+
+  EXPECT_NE(r.err.find("ETA"), std::string::npos) << "no progress on stderr:\n" << r.err;
+}
+
+TEST_F(CliTest, QuietSuppressesProgress) {
+  const RunResult r = run({"run", spec_file(kSmallSpec).string(), "--out", (dir_ / "out").string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("ETA"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "out" / "curve.csv"));
+}
+
+TEST_F(CliTest, OutDirMayAlreadyExistAndResultsAreOverwritten) {
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  write_text(out / "curve.csv", "stale\n");
+  const RunResult r = run({"run", spec_file(kSmallSpec).string(), "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines_of(slurp(out / "curve.csv")).at(0), kCurveHeader);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. The thread count is honoured (from --threads, or from run.threads in the spec)
+
+struct ThreadsCase {
+  const char* name;
+  std::string spec;
+  std::vector<std::string> extra_args;
+};
+
+class CliThreadsTest : public CliTest, public ::testing::WithParamInterface<ThreadsCase> {};
+
+TEST_P(CliThreadsTest, SummaryReportsOneThread) {
+  const ThreadsCase& c = GetParam();
+  const fs::path out = dir_ / "out";
+  std::vector<std::string> args{"run", spec_file(c.spec).string(), "--out", out.string()};
+  args.insert(args.end(), c.extra_args.begin(), c.extra_args.end());
+  const RunResult r = run(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json s = json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(s.at("threads").get<long>(), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cli, CliThreadsTest,
+    ::testing::Values(
+        ThreadsCase{"flag", kSmallSpec, {"--threads", "1"}},
+        ThreadsCase{"flag_before_spec", kSmallSpec, {}},  // see the test body: args reordered below
+        ThreadsCase{"spec_field",
+                    R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
+                        "output": {"curve_points": 20}, "run": {"threads": 1}})",
+                    {}},
+        ThreadsCase{"flag_overrides_spec",
+                    R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
+                        "output": {"curve_points": 20}, "run": {"threads": 2}})",
+                    {"--threads", "1"}}),
+    [](const ::testing::TestParamInfo<ThreadsCase>& info) { return std::string(info.param.name); });
+
+// ---------------------------------------------------------------------------------------------
+// 3. Bad input: exit code 2, a message on stderr naming the problem, no output written
+
+struct BadCase {
+  const char* name;
+  std::optional<std::string> spec;       ///< spec file contents; nullopt = the file does not exist
+  std::vector<std::string> args;         ///< "{SPEC}" and "{OUT}" are replaced by the paths
+  std::vector<std::string> must_mention; ///< substrings of stderr; "{SPEC}" is replaced too
+};
+
+class CliBadInputTest : public CliTest, public ::testing::WithParamInterface<BadCase> {};
+
+TEST_P(CliBadInputTest, ExitsTwoWithAMessageAndWritesNothing) {
+  const BadCase& c = GetParam();
+  const fs::path spec = dir_ / "spec.json", out = dir_ / "out";
+  if (c.spec) write_text(spec, *c.spec);
+  auto substitute = [&](std::string s) {
+    for (const auto& [token, value] : {std::pair{std::string("{SPEC}"), spec.string()},
+                                       std::pair{std::string("{OUT}"), out.string()}})
+      for (std::size_t at; (at = s.find(token)) != std::string::npos;) s.replace(at, token.size(), value);
+    return s;
+  };
+  std::vector<std::string> args;
+  for (const std::string& a : c.args) args.push_back(substitute(a));
+
+  const RunResult r = run(args);
+  EXPECT_EQ(r.exit_code, 2) << "stderr:\n" << r.err;
+  EXPECT_FALSE(r.err.empty());
+  for (const std::string& m : c.must_mention)
+    EXPECT_NE(r.err.find(substitute(m)), std::string::npos) << "stderr should mention '" << substitute(m) << "':\n"
+                                                            << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "a failing run must not create its output directory";
+}
+
+const std::vector<std::string> kRunArgs{"run", "{SPEC}", "--out", "{OUT}"};
+
+INSTANTIATE_TEST_SUITE_P(
+    Cli, CliBadInputTest,
+    ::testing::Values(
+        BadCase{"unknown_field", R"({"grain": {"edge_sphere": 4}})", kRunArgs, {"grain.edge_sphere", "unknown"}},
+        BadCase{"unknown_top_level_field", R"({"experiment": "two_cube_sliding", "lable": "x"})", kRunArgs,
+                {"lable"}},
+        BadCase{"out_of_range", R"({"grain": {"edge_spheres": 1}})", kRunArgs, {"grain.edge_spheres", "[2, 40]"}},
+        BadCase{"out_of_range_real", R"({"material": {"friction": -0.1}})", kRunArgs, {"material.friction"}},
+        BadCase{"wrong_type_string_for_number", R"({"material": {"friction": "high"}})", kRunArgs,
+                {"material.friction", "number"}},
+        BadCase{"wrong_type_fraction_for_integer", R"({"grain": {"edge_spheres": 4.5}})", kRunArgs,
+                {"grain.edge_spheres", "integer"}},
+        BadCase{"wrong_type_section", R"({"grain": 4})", kRunArgs, {"grain", "object"}},
+        BadCase{"spec_not_an_object", "[1, 2]", kRunArgs, {"object"}},
+        BadCase{"invalid_json", R"({"grain": {"edge_spheres": 4)", kRunArgs, {"{SPEC}", "JSON"}},
+        BadCase{"empty_spec_file", "", kRunArgs, {"JSON"}},
+        BadCase{"unknown_experiment", R"({"experiment": "triaxial"})", kRunArgs, {"experiment", "triaxial"}},
+        BadCase{"crystal_compression_not_in_this_build", R"({"experiment": "crystal_compression"})", kRunArgs,
+                {"experiment", "crystal_compression"}},
+        BadCase{"missing_spec_file", std::nullopt, kRunArgs, {"{SPEC}"}},
+        BadCase{"missing_out", kSmallSpec, {"run", "{SPEC}"}, {"--out"}},
+        BadCase{"out_without_value", kSmallSpec, {"run", "{SPEC}", "--out"}, {"--out"}},
+        BadCase{"missing_spec_argument", kSmallSpec, {"run", "--out", "{OUT}"}, {"SPEC"}},
+        BadCase{"unexpected_argument", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--fast"}, {"--fast"}},
+        BadCase{"unknown_command", kSmallSpec, {"frobnicate"}, {"frobnicate", "usage"}},
+        BadCase{"no_command", kSmallSpec, {}, {"usage"}}),
+    [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
+
+// ---------------------------------------------------------------------------------------------
+// 4. version
+
+TEST_F(CliTest, VersionPrintsAVersionAndExitsZero) {
+  const RunResult r = run({"version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\s*)"))) << "stdout: '" << r.out << "'";
+}
+
+}  // namespace
