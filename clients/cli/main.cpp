@@ -79,6 +79,19 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+int parse_threads(const std::string& text) {
+  std::size_t used = 0;
+  long n = -1;
+  try {
+    n = std::stol(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || n < 1 || n > 256)
+    throw std::invalid_argument("'--threads' must be an integer in [1, 256], got '" + text + "'");
+  return int(n);
+}
+
 int run(int argc, char** argv) {
   std::string spec_path, out_dir;
   int threads = -1;
@@ -86,7 +99,7 @@ int run(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
-    else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc) threads = parse_threads(argv[++i]);
     else if (a == "--quiet") quiet = true;
     else if (spec_path.empty() && a.rfind("--", 0) != 0) spec_path = a;
     else throw std::invalid_argument("unexpected argument '" + a + "'\n" + kUsage);

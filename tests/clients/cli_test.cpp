@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -138,6 +139,20 @@ class CliTest : public ::testing::Test {
     return r;
   }
 
+  /// Replaces "{SPEC}" and "{OUT}" by dir/spec.json and dir/out.
+  std::string substitute(std::string s) const {
+    const std::pair<std::string, std::string> tokens[] = {{"{SPEC}", (dir_ / "spec.json").string()},
+                                                         {"{OUT}", (dir_ / "out").string()}};
+    for (const auto& [token, value] : tokens)
+      for (std::size_t at; (at = s.find(token)) != std::string::npos;) s.replace(at, token.size(), value);
+    return s;
+  }
+  std::vector<std::string> substitute(const std::vector<std::string>& args) const {
+    std::vector<std::string> result;
+    for (const std::string& a : args) result.push_back(substitute(a));
+    return result;
+  }
+
   fs::path spec_file(const std::string& text, const std::string& name = "spec.json") {
     const fs::path path = dir_ / name;
     write_text(path, text);
@@ -205,7 +220,9 @@ TEST_F(CliTest, RunWritesCurveSummaryAndSnapshots) {
   EXPECT_LT(s["sphere_diameter"].get<double>(), 0.01);  // smaller than the grain
   EXPECT_GT(s["normal_stiffness"].get<double>(), 0);
   // P0 links the two force columns: normal_force = normal_over_p0 * P0.
-  if (s.contains("p0")) EXPECT_NEAR(rows.front()[3], s["p0"].get<double>(), 1e-9 * s["p0"].get<double>());
+  if (s.contains("p0")) {
+    EXPECT_NEAR(rows.front()[3], s["p0"].get<double>(), 1e-9 * s["p0"].get<double>());
+  }
   // The spec that was run is recorded, normalised.
   ASSERT_TRUE(s.contains("spec"));
   EXPECT_EQ(s["spec"]["grain"]["edge_spheres"], 4);
@@ -237,35 +254,37 @@ TEST_F(CliTest, OutDirMayAlreadyExistAndResultsAreOverwritten) {
 struct ThreadsCase {
   const char* name;
   std::string spec;
-  std::vector<std::string> extra_args;
+  std::vector<std::string> args;  ///< "{SPEC}" and "{OUT}" are replaced by the paths
 };
+
+void PrintTo(const ThreadsCase& c, std::ostream* os) { *os << c.name; }
 
 class CliThreadsTest : public CliTest, public ::testing::WithParamInterface<ThreadsCase> {};
 
 TEST_P(CliThreadsTest, SummaryReportsOneThread) {
   const ThreadsCase& c = GetParam();
-  const fs::path out = dir_ / "out";
-  std::vector<std::string> args{"run", spec_file(c.spec).string(), "--out", out.string()};
-  args.insert(args.end(), c.extra_args.begin(), c.extra_args.end());
-  const RunResult r = run(args);
+  spec_file(c.spec);
+  const RunResult r = run(substitute(c.args));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const json s = json::parse(slurp(out / "summary.json"));
+  const json s = json::parse(slurp(dir_ / "out" / "summary.json"));
   EXPECT_EQ(s.at("threads").get<long>(), 1);
 }
+
+constexpr const char* kSmallSpecTwoThreads = R"({
+  "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3}, "output": {"curve_points": 20},
+  "run": {"threads": 2}})";
 
 INSTANTIATE_TEST_SUITE_P(
     Cli, CliThreadsTest,
     ::testing::Values(
-        ThreadsCase{"flag", kSmallSpec, {"--threads", "1"}},
-        ThreadsCase{"flag_before_spec", kSmallSpec, {}},  // see the test body: args reordered below
+        ThreadsCase{"flag_last", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}},
+        ThreadsCase{"flag_first", kSmallSpec, {"run", "--threads", "1", "--out", "{OUT}", "{SPEC}"}},
         ThreadsCase{"spec_field",
                     R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
                         "output": {"curve_points": 20}, "run": {"threads": 1}})",
-                    {}},
-        ThreadsCase{"flag_overrides_spec",
-                    R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
-                        "output": {"curve_points": 20}, "run": {"threads": 2}})",
-                    {"--threads", "1"}}),
+                    {"run", "{SPEC}", "--out", "{OUT}"}},
+        ThreadsCase{"flag_overrides_spec", kSmallSpecTwoThreads,
+                    {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}}),
     [](const ::testing::TestParamInfo<ThreadsCase>& info) { return std::string(info.param.name); });
 
 // ---------------------------------------------------------------------------------------------
@@ -278,28 +297,27 @@ struct BadCase {
   std::vector<std::string> must_mention; ///< substrings of stderr; "{SPEC}" is replaced too
 };
 
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
 class CliBadInputTest : public CliTest, public ::testing::WithParamInterface<BadCase> {};
 
 TEST_P(CliBadInputTest, ExitsTwoWithAMessageAndWritesNothing) {
   const BadCase& c = GetParam();
-  const fs::path spec = dir_ / "spec.json", out = dir_ / "out";
-  if (c.spec) write_text(spec, *c.spec);
-  auto substitute = [&](std::string s) {
-    for (const auto& [token, value] : {std::pair{std::string("{SPEC}"), spec.string()},
-                                       std::pair{std::string("{OUT}"), out.string()}})
-      for (std::size_t at; (at = s.find(token)) != std::string::npos;) s.replace(at, token.size(), value);
-    return s;
-  };
-  std::vector<std::string> args;
-  for (const std::string& a : c.args) args.push_back(substitute(a));
-
-  const RunResult r = run(args);
+  if (c.spec) spec_file(*c.spec);
+  const RunResult r = run(substitute(c.args));
   EXPECT_EQ(r.exit_code, 2) << "stderr:\n" << r.err;
   EXPECT_FALSE(r.err.empty());
-  for (const std::string& m : c.must_mention)
-    EXPECT_NE(r.err.find(substitute(m)), std::string::npos) << "stderr should mention '" << substitute(m) << "':\n"
-                                                            << r.err;
-  EXPECT_FALSE(fs::exists(out)) << "a failing run must not create its output directory";
+  // The scratch path (which holds the test's name) is blanked out, so that a word of the test name
+  // in the echoed spec path cannot satisfy a check; "{SPEC}" checks look at the full text.
+  std::string err_without_paths = r.err;
+  for (std::size_t at; (at = err_without_paths.find(dir_.string())) != std::string::npos;)
+    err_without_paths.replace(at, dir_.string().size(), "<dir>");
+  for (const std::string& m : c.must_mention) {
+    const std::string& text = m.find("{SPEC}") != std::string::npos ? r.err : err_without_paths;
+    EXPECT_NE(text.find(substitute(m)), std::string::npos) << "stderr should mention '" << substitute(m) << "':\n"
+                                                           << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out")) << "a failing run must not create its output directory";
 }
 
 const std::vector<std::string> kRunArgs{"run", "{SPEC}", "--out", "{OUT}"};
@@ -307,28 +325,32 @@ const std::vector<std::string> kRunArgs{"run", "{SPEC}", "--out", "{OUT}"};
 INSTANTIATE_TEST_SUITE_P(
     Cli, CliBadInputTest,
     ::testing::Values(
-        BadCase{"unknown_field", R"({"grain": {"edge_sphere": 4}})", kRunArgs, {"grain.edge_sphere", "unknown"}},
+        BadCase{"unknown_field", R"({"grain": {"edge_sphere": 4}})", kRunArgs, {"'grain.edge_sphere'", "unknown field"}},
         BadCase{"unknown_top_level_field", R"({"experiment": "two_cube_sliding", "lable": "x"})", kRunArgs,
-                {"lable"}},
-        BadCase{"out_of_range", R"({"grain": {"edge_spheres": 1}})", kRunArgs, {"grain.edge_spheres", "[2, 40]"}},
-        BadCase{"out_of_range_real", R"({"material": {"friction": -0.1}})", kRunArgs, {"material.friction"}},
+                {"'lable'"}},
+        BadCase{"out_of_range", R"({"grain": {"edge_spheres": 1}})", kRunArgs, {"'grain.edge_spheres'", "[2, 40]"}},
+        BadCase{"out_of_range_real", R"({"material": {"friction": -0.1}})", kRunArgs, {"'material.friction'"}},
         BadCase{"wrong_type_string_for_number", R"({"material": {"friction": "high"}})", kRunArgs,
-                {"material.friction", "number"}},
+                {"'material.friction'", "number"}},
         BadCase{"wrong_type_fraction_for_integer", R"({"grain": {"edge_spheres": 4.5}})", kRunArgs,
-                {"grain.edge_spheres", "integer"}},
-        BadCase{"wrong_type_section", R"({"grain": 4})", kRunArgs, {"grain", "object"}},
+                {"'grain.edge_spheres'", "integer"}},
+        BadCase{"wrong_type_section", R"({"grain": 4})", kRunArgs, {"'grain'", "object"}},
         BadCase{"spec_not_an_object", "[1, 2]", kRunArgs, {"object"}},
         BadCase{"invalid_json", R"({"grain": {"edge_spheres": 4)", kRunArgs, {"{SPEC}", "JSON"}},
         BadCase{"empty_spec_file", "", kRunArgs, {"JSON"}},
-        BadCase{"unknown_experiment", R"({"experiment": "triaxial"})", kRunArgs, {"experiment", "triaxial"}},
+        BadCase{"unknown_experiment", R"({"experiment": "triaxial"})", kRunArgs, {"'experiment'", "triaxial"}},
         BadCase{"crystal_compression_not_in_this_build", R"({"experiment": "crystal_compression"})", kRunArgs,
-                {"experiment", "crystal_compression"}},
+                {"'experiment'", "crystal_compression"}},
         BadCase{"missing_spec_file", std::nullopt, kRunArgs, {"{SPEC}"}},
         BadCase{"missing_out", kSmallSpec, {"run", "{SPEC}"}, {"--out"}},
         BadCase{"out_without_value", kSmallSpec, {"run", "{SPEC}", "--out"}, {"--out"}},
         BadCase{"missing_spec_argument", kSmallSpec, {"run", "--out", "{OUT}"}, {"SPEC"}},
-        BadCase{"unexpected_argument", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--fast"}, {"--fast"}},
-        BadCase{"unknown_command", kSmallSpec, {"frobnicate"}, {"frobnicate", "usage"}},
+        BadCase{"unexpected_argument", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--fast"}, {"'--fast'"}},
+        BadCase{"threads_not_a_number", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "abc"},
+                {"'--threads'", "[1, 256]"}},
+        BadCase{"threads_out_of_range", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "0"},
+                {"'--threads'", "[1, 256]"}},
+        BadCase{"unknown_command", kSmallSpec, {"frobnicate"}, {"'frobnicate'", "usage"}},
         BadCase{"no_command", kSmallSpec, {}, {"usage"}}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
 
