@@ -32,6 +32,9 @@ World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSetti
 BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion motion) {
   const BodyId id = bodies_.add(x, q, density * grain_.volume(), density * grain_.principal_inertia_per_density(), motion);
   sphere_pos_.resize(bodies_.size() * grain_.sphere_count());
+  overlap_sum_.resize(bodies_.size(), 0.0);
+  external_force_.resize(bodies_.size(), Vec3::Zero());
+  external_torque_.resize(bodies_.size(), Vec3::Zero());
   built_ = false;
   return id;
 }
@@ -65,8 +68,8 @@ void World::compute_forces() {
   update_sphere_positions();
   if (needs_rebuild()) rebuild();
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    bodies_.force[b] = bodies_.mass[b] * settings_.gravity;
-    bodies_.torque[b].setZero();
+    bodies_.force[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
+    bodies_.torque[b] = external_torque_[b];
   }
   sphere_contact_forces();
   wall_forces();
@@ -115,6 +118,8 @@ void World::rebuild() {
   pair_torque_b_.resize(n_pairs);
   pair_contacts_.resize(n_pairs);
   pair_sliding_.resize(n_pairs);
+  pair_overlap_.resize(n_pairs);
+  pair_energy_.resize(n_pairs);
   built_ = true;
   ++rebuilds_;
 }
@@ -126,6 +131,7 @@ void World::sphere_contact_forces() {
   Vec3* history = neighbors_.history().data();
   const std::size_t per_body = grain_.sphere_count();
   const double d = grain_.diameter(), d2 = d * d, radius = grain_.radius(), dt = settings_.time_step;
+  const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size());
 
 #pragma omp parallel for schedule(dynamic, 4) if (n_pairs >= 8)
@@ -140,6 +146,7 @@ void World::sphere_contact_forces() {
     const Vec3* sb = sphere_pos_.data() + gp.b * per_body;
     Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
     std::uint32_t contacts = 0, sliding = 0;
+    double overlap = 0, energy = 0;
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       const Vec3 r = sa[key_first(keys[k])] - sb[key_second(keys[k])];
       const double dist2 = r.squaredNorm();
@@ -158,16 +165,22 @@ void World::sphere_contact_forces() {
       torque_b -= (c - xb).cross(cf.force);
       ++contacts;
       sliding += cf.sliding;
+      overlap += delta;
+      energy += 0.5 * kn * delta * delta + (kt > 0 ? 0.5 * kt * history[k].squaredNorm() : 0.0);
     }
     pair_force_[p] = force;
     pair_torque_a_[p] = torque_a;
     pair_torque_b_[p] = torque_b;
     pair_contacts_[p] = contacts;
     pair_sliding_[p] = sliding;
+    pair_overlap_[p] = overlap;
+    pair_energy_[p] = energy;
   }
 
   stats_.candidates = keys.size();
   stats_.contacts = stats_.sliding = 0;
+  stats_.elastic_energy = 0;
+  std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
   for (long p = 0; p < n_pairs; ++p) {
     const GrainPair& gp = pairs[p];
     bodies_.force[gp.a] += pair_force_[p];
@@ -176,12 +189,22 @@ void World::sphere_contact_forces() {
     bodies_.torque[gp.b] += pair_torque_b_[p];
     stats_.contacts += pair_contacts_[p];
     stats_.sliding += pair_sliding_[p];
+    stats_.elastic_energy += pair_energy_[p];
+    overlap_sum_[gp.a] += pair_overlap_[p];
+    overlap_sum_[gp.b] += pair_overlap_[p];
   }
+}
+
+double World::kinetic_energy() const {
+  double e = 0;
+  for (std::size_t b = 0; b < bodies_.size(); ++b)
+    if (bodies_.motion[b] == Motion::dynamic) e += bodies_.translational_energy(BodyId(b)) + bodies_.rotational_energy(BodyId(b));
+  return e;
 }
 
 void World::wall_forces() {
   StageTimer t(times_.walls);
-  for (Wall& w : walls_) w.force.setZero();
+  for (Wall& w : walls_) w.force.setZero(), w.contacts = 0;
   const auto& keys = neighbors_.wall_keys();
   Vec3* history = neighbors_.wall_history().data();
   const std::size_t per_body = grain_.sphere_count();
@@ -204,6 +227,7 @@ void World::wall_forces() {
     bodies_.force[b] += cf.force;
     bodies_.torque[b] += arm.cross(cf.force);
     w.force -= cf.force;
+    ++w.contacts;
     ++stats_.wall_contacts;
   }
 }

@@ -33,6 +33,7 @@ struct ContactStats {
   std::size_t contacts = 0;    ///< sphere-sphere pairs with overlap > 0
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
+  double elastic_energy = 0;   ///< sum over sphere-sphere contacts of k_n delta^2/2 + |k_t xi|^2/(2 k_t) (J)
 };
 
 class World {
@@ -65,6 +66,15 @@ class World {
   std::uint64_t rebuilds() const { return rebuilds_; }
   const StageTimes& stage_times() const { return times_; }
   const ContactStats& contact_stats() const { return stats_; }
+  /// Force on grain a of each grain pair of neighbors().grain_pairs() from grain b, last evaluation (N).
+  const std::vector<Vec3>& pair_forces() const { return pair_force_; }
+  /// Per body: sum of the sphere overlaps with other grains in the last evaluation (m), the paper's Delta.
+  const std::vector<double>& overlap_sums() const { return overlap_sum_; }
+  /// Per-body forces and torques added at every evaluation (e.g. the confining membrane); sized with bodies.
+  std::vector<Vec3>& external_force() { return external_force_; }
+  std::vector<Vec3>& external_torque() { return external_torque_; }
+  /// Translational plus rotational kinetic energy of the dynamic bodies (J).
+  double kinetic_energy() const;
 
  private:
   void update_sphere_positions();
@@ -91,6 +101,9 @@ class World {
   // Per-grain-pair results of the contact stage, reduced in pair order.
   std::vector<Vec3> pair_force_, pair_torque_a_, pair_torque_b_;
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
+  std::vector<double> pair_overlap_, pair_energy_;
+  std::vector<double> overlap_sum_;
+  std::vector<Vec3> external_force_, external_torque_;
 
   double time_ = 0;
   std::uint64_t steps_ = 0, rebuilds_ = 0;

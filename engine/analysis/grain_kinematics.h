@@ -1,0 +1,34 @@
+// Per-grain and per-interface kinematics between a reference state and the current one, for snapshots
+// (paper Figs. 8, 9, 11): the local strain of each grain from the best-fit deformation of its
+// neighbours' displacements, and the sliding distance at each interface of two neighbouring grains.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "engine/core/types.h"
+
+namespace granulab {
+
+/// Pairs (a, b), a < b, of grains whose reference centres are closer than `cutoff` (m): the interfaces.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbour_pairs(const std::vector<Vec3>& positions, double cutoff);
+
+struct LocalStrain {
+  double max_shear = 0;   ///< gamma_max = (e1 - e3)/2 of the Green-Lagrange strain E (tensor shear)
+  double equivalent = 0;  ///< von Mises equivalent strain sqrt(2/3 dev(E):dev(E))
+};
+
+/// The deformation gradient F that best maps each grain's reference neighbour vectors onto the current
+/// ones (least squares, as in Falk & Langer 1998), and the invariants of E = (F^T F - I)/2.
+/// Grains with fewer than three non-coplanar neighbours get the minimum-norm fit.
+std::vector<LocalStrain> local_strains(const std::vector<Vec3>& reference, const std::vector<Vec3>& current,
+                                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
+
+/// Sliding distance at each interface: the two grains' material points that coincided at the reference
+/// interface midpoint, their current separation projected on the current interface plane (m).
+std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const std::vector<Quat>& ref_q,
+                                      const std::vector<Vec3>& pos, const std::vector<Quat>& q,
+                                      const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
+
+}  // namespace granulab

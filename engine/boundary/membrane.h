@@ -1,0 +1,46 @@
+// The vacuum bag: a confining pressure p0 on the lateral surface of the sample (MODEL.md, Experiment 2).
+// For each lateral face (+x, -x, +y, -y) a height map over the face plane, with cells finer than a
+// sphere, records the outermost sphere surface in every cell; the grain owning it receives
+// p0 x (cell area) along the inward face normal, applied at that surface point (so it also exerts a
+// torque). Each surface grain is thus pushed in proportion to the area of its projection on the sample
+// surface, and the set of surface grains follows the surface as it deforms when the map is rebuilt.
+// Why the face normal and not the local slope of the height map: opposite faces then see the same
+// projected footprint, so the bag exerts no net force on the sample, as a closed bag must not; a
+// local slope measured on the faceted, jagged ends of the sample pushed the whole sample into one wall.
+#pragma once
+
+#include <vector>
+
+#include "engine/core/types.h"
+
+namespace granulab {
+
+struct MembraneStats {
+  double area[4] = {0, 0, 0, 0};  ///< projected area covered on +x, -x, +y, -y (m^2)
+  Vec3 mean_position[4];          ///< area-weighted mean surface point of each face (m)
+  std::size_t grains = 0;         ///< grains receiving a membrane force
+};
+
+class Membrane {
+ public:
+  /// `pressure` p0 (Pa); `cell` height-map resolution (m).
+  Membrane(double pressure, double cell);
+
+  /// Recomputes the per-body forces and torques (overwriting `force`, `torque`) from the sphere
+  /// centres (body-major, `per_body` spheres of radius `radius` each) and body centres.
+  void apply(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres, std::size_t per_body,
+             double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque);
+
+  double pressure() const { return pressure_; }
+  void set_pressure(double p) { pressure_ = p; }
+  const MembraneStats& stats() const { return stats_; }
+
+ private:
+  double pressure_, cell_;
+  MembraneStats stats_;
+  // Scratch reused between calls.
+  std::vector<double> height_;
+  std::vector<std::uint32_t> owner_;
+};
+
+}  // namespace granulab

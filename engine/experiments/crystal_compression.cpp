@@ -1,0 +1,250 @@
+#include "engine/experiments/crystal_compression.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <omp.h>
+#include <stdexcept>
+
+#include "engine/analysis/grain_kinematics.h"
+
+namespace granulab {
+
+namespace {
+
+double prestrain_for(const CrystalParams& p) { return std::sqrt(2.0) * p.confining_pressure / p.material.youngs_modulus; }
+
+WorldSettings crystal_settings(const CrystalParams& p, const GrainTemplate& grain) {
+  WorldSettings s;
+  s.time_step = p.time_step_factor *
+                contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
+  s.skin = p.skin_factor * grain.diameter();
+  return s;
+}
+
+CrystalGeometry lattice_geometry(const CrystalParams& p) {
+  CrystalGeometry g;
+  g.size = p.grain.size;
+  g.prestrain = prestrain_for(p);
+  g.grains_x = p.grains_x, g.rows_z = p.rows_z, g.layers_y = p.layers_y;
+  g.knockout_ids = p.knockout_ids;
+  g.knockout_regions = p.knockout_regions;
+  return g;
+}
+
+double mean_coordinate(const std::vector<std::uint32_t>& bodies, const std::vector<Vec3>& x, int axis) {
+  double s = 0;
+  for (std::uint32_t b : bodies) s += x[b][axis];
+  return bodies.empty() ? 0 : s / bodies.size();
+}
+
+}  // namespace
+
+CrystalCompression::CrystalCompression(const CrystalParams& params)
+    : params_(params),
+      grain_(params.grain),
+      lattice_(build_crystal(lattice_geometry(params))),
+      world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_)),
+      membrane_(params.confining_pressure, grain_.diameter() / 2) {
+  if (params.grain.shape != Shape::rhombic_dodecahedron)
+    throw std::invalid_argument("crystal_compression needs rhombic_dodecahedron grains");
+  if (lattice_.sites.size() < 2) throw std::invalid_argument("the crystal has fewer than two grains left");
+  const double density = params.material.density * params.mass_scaling;
+  for (const LatticeSite& s : lattice_.sites) {
+    const BodyId b = world_.add_grain(s.position, lattice_.orientation, density);
+    ids_.push_back(s.id);
+    if (s.column == 0) side_[0].push_back(b);
+    if (s.column == params.grains_x - 1) side_[1].push_back(b);
+    if (s.layer == 0) side_[2].push_back(b);
+    if (s.layer == params.layers_y - 1) side_[3].push_back(b);
+  }
+  // Walls just touching the outermost sphere surfaces of the end rows.
+  world_.compute_forces();
+  double lo = 1e300, hi = -1e300;
+  for (const Vec3& x : world_.sphere_positions()) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
+  top_ = world_.add_wall(Wall{Vec3(0, 0, hi + grain_.radius()), -Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});
+  bottom_ = world_.add_wall(Wall{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});
+
+  cross_section_ = lattice_.extent.x() * lattice_.extent.y();
+  volume_ = cross_section_ * lattice_.extent.z();
+  t0_ = contact_time_scale(grain_, params.material.youngs_modulus, density);
+  update_membrane();
+  world_.compute_forces();
+}
+
+void CrystalCompression::update_membrane() {
+  membrane_.apply(world_.bodies().position, world_.sphere_positions(), grain_.sphere_count(), grain_.radius(),
+                  world_.external_force(), world_.external_torque());
+}
+
+double CrystalCompression::wall_stress(std::size_t w) const {
+  const Wall& wall = world_.walls()[w];
+  return -wall.force.dot(wall.normal) / cross_section_;
+}
+
+Mat3 CrystalCompression::packing_stress() const {
+  Mat3 s = Mat3::Zero();
+  const auto& pairs = world_.neighbors().grain_pairs();
+  const auto& forces = world_.pair_forces();
+  const auto& x = world_.bodies().position;
+  for (std::size_t p = 0; p < pairs.size(); ++p) s += forces[p] * (x[pairs[p].a] - x[pairs[p].b]).transpose();
+  return s / volume_;
+}
+
+ConfinementReport CrystalCompression::confine(const ProgressFn& progress) {
+  ConfinementReport r;
+  const double p0 = params_.confining_pressure;
+  // Servo: wall speed = force error / (K tau). K = the stiffness of the wall's own contacts, an upper
+  // bound of the wall-sample stiffness (springs in series), so the force error decays no faster than
+  // with time constant tau, which is kept well above the sample's response time (~ L/c ~ 10 t0).
+  const double servo_time = 50 * t0_;
+  const double kn = world_.law().normal_stiffness;
+  int good = 0;
+  const std::uint64_t start = world_.steps();
+  while (world_.steps() - start < params_.max_confinement_steps) {
+    for (std::size_t w : {top_, bottom_}) {
+      Wall& wall = world_.walls()[w];
+      const double error = (p0 - wall_stress(w)) * cross_section_;  // N; > 0: push in
+      const double stiffness = kn * double(std::max<std::size_t>(1, wall.contacts));
+      wall.velocity = wall.normal * (error / (stiffness * servo_time));
+    }
+    world_.step();
+    if ((world_.steps() - start) % params_.membrane_interval != 0) continue;
+    update_membrane();
+    const double ke = world_.kinetic_energy(), ee = world_.contact_stats().elastic_energy;
+    const bool walls_ok = std::abs(wall_stress(top_) - p0) <= params_.equilibrium_tolerance * p0 &&
+                          std::abs(wall_stress(bottom_) - p0) <= params_.equilibrium_tolerance * p0;
+    const bool quiet = ke <= params_.kinetic_tolerance * ee;
+    good = walls_ok && quiet ? good + 1 : 0;
+    if (progress && !progress(double(world_.steps() - start) / params_.max_confinement_steps)) throw Cancelled();
+    if (good >= params_.equilibrium_checks) {
+      r.converged = true;
+      break;
+    }
+  }
+  for (Wall& w : world_.walls()) w.velocity.setZero();
+  const Mat3 s = packing_stress();
+  r.steps = world_.steps() - start;
+  r.stress_top = wall_stress(top_);
+  r.stress_bottom = wall_stress(bottom_);
+  r.lateral_stress_x = s(0, 0);
+  r.lateral_stress_y = s(1, 1);
+  const double ee = world_.contact_stats().elastic_energy;
+  r.kinetic_elastic_ratio = ee > 0 ? world_.kinetic_energy() / ee : 0;
+  return r;
+}
+
+CrystalRow CrystalCompression::measure(double strain) const {
+  CrystalRow row;
+  const auto& x = world_.bodies().position;
+  row.strain = strain;
+  row.stress_top = wall_stress(top_);
+  row.stress_bottom = wall_stress(bottom_);
+  row.deviator = (row.stress_top + row.stress_bottom) / 2 - params_.confining_pressure;
+  const double width = mean_coordinate(side_[1], x, 0) - mean_coordinate(side_[0], x, 0);
+  const double thickness = mean_coordinate(side_[3], x, 1) - mean_coordinate(side_[2], x, 1);
+  row.lateral_strain_x = ref_width_ > 0 ? width / ref_width_ - 1 : 0;
+  row.lateral_strain_y = ref_thickness_ > 0 ? thickness / ref_thickness_ - 1 : 0;
+  const Mat3 s = packing_stress();
+  row.lateral_stress = (s(0, 0) + s(1, 1)) / 2;
+  const double ee = world_.contact_stats().elastic_energy;
+  row.kinetic_elastic_ratio = ee > 0 ? world_.kinetic_energy() / ee : 0;
+  row.contacts = world_.contact_stats().contacts;
+  row.sliding_contacts = world_.contact_stats().sliding;
+  return row;
+}
+
+CrystalSnapshot CrystalCompression::snapshot(double strain) const {
+  const Bodies& b = world_.bodies();
+  CrystalSnapshot s;
+  s.strain = strain;
+  s.step = world_.steps();
+  s.id = ids_;
+  s.position = b.position;
+  s.orientation = b.orientation;
+  s.displacement.resize(b.size());
+  for (std::size_t i = 0; i < b.size(); ++i) s.displacement[i] = b.position[i] - ref_position_[i];
+  s.penetration = world_.overlap_sums();
+  double mean = 0;
+  for (double d : s.penetration) mean += d;
+  mean /= s.penetration.size();
+  for (double d : s.penetration) s.penetration_ratio.push_back(mean > 0 ? d / mean : 0);
+  for (const LocalStrain& e : local_strains(ref_position_, b.position, interfaces_)) {
+    s.max_shear_strain.push_back(e.max_shear);
+    s.equivalent_strain.push_back(e.equivalent);
+  }
+  for (const auto& [p, q] : interfaces_) s.interfaces.emplace_back(ids_[p], ids_[q]);
+  s.sliding = interface_sliding(ref_position_, ref_orientation_, b.position, b.orientation, interfaces_);
+  return s;
+}
+
+CrystalResult CrystalCompression::run(const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  CrystalResult r;
+  // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
+  r.confinement = confine([&](double f) { return !progress || progress(0.1 * f); });
+
+  // Reference state for strains, displacements and lateral strains.
+  const Bodies& b = world_.bodies();
+  ref_position_ = b.position;
+  ref_orientation_ = b.orientation;
+  interfaces_ = neighbour_pairs(ref_position_, 1.1 * params_.grain.size / std::sqrt(2.0));
+  ref_width_ = mean_coordinate(side_[1], ref_position_, 0) - mean_coordinate(side_[0], ref_position_, 0);
+  ref_thickness_ = mean_coordinate(side_[3], ref_position_, 1) - mean_coordinate(side_[2], ref_position_, 1);
+  Wall& top = world_.walls()[top_];
+  Wall& bottom = world_.walls()[bottom_];
+  ref_length_ = top.point.z() - bottom.point.z();
+
+  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
+  const double dt = world_.settings().time_step;
+  const int points = std::max(1, params_.curve_points);
+  const std::uint64_t per_point = std::max<std::uint64_t>(
+      1, std::uint64_t(std::ceil(params_.max_strain * ref_length_ / (speed * dt) / points)));
+  const std::uint64_t total = per_point * points;
+  const double approach = params_.max_strain * ref_length_ / (total * dt);  // lands exactly on max_strain
+  top.velocity = top.normal * (approach / 2);
+  bottom.velocity = bottom.normal * (approach / 2);
+
+  std::vector<double> targets = params_.snapshot_strains;
+  std::sort(targets.begin(), targets.end());
+  std::size_t next_snapshot = 0;
+  auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
+  auto take_due_snapshots = [&] {
+    while (next_snapshot < targets.size() && strain_now() >= targets[next_snapshot] - 1e-12)
+      r.snapshots.push_back(snapshot(targets[next_snapshot++]));
+  };
+  r.curve.push_back(measure(0));
+  take_due_snapshots();
+  const std::uint64_t first = world_.steps();
+  for (int k = 1; k <= points; ++k) {
+    for (std::uint64_t i = 0; i < per_point; ++i) {
+      world_.step();
+      if ((world_.steps() - first) % params_.membrane_interval == 0) update_membrane();
+      take_due_snapshots();
+    }
+    r.curve.push_back(measure(strain_now()));
+    if (progress && !progress(0.1 + 0.9 * double(k) / points)) throw Cancelled();
+  }
+
+  r.prestrain = prestrain_for(params_);
+  r.sphere_diameter = grain_.diameter();
+  r.normal_stiffness = world_.law().normal_stiffness;
+  r.time_step = dt;
+  r.strain_rate = approach / ref_length_;
+  r.initial_length = ref_length_;
+  r.cross_section = cross_section_;
+  r.spheres_per_face = grain_.spheres_per_face();
+  r.grains = b.size();
+  r.spheres = world_.sphere_count();
+  r.knocked_out = lattice_.knocked_out;
+  r.steps = world_.steps();
+  r.compression_steps = world_.steps() - first;
+  r.rebuilds = world_.rebuilds();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.threads = omp_get_max_threads();
+  r.stage_times = world_.stage_times();
+  return r;
+}
+
+}  // namespace granulab
