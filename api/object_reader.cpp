@@ -64,6 +64,8 @@ long ObjectReader::integer(const std::string& key, long fallback, long lo, long 
     if (!integral)
       throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an integer in " + range + ", got " +
                                                     (j->is_number() ? j->dump() : type_name(*j)));
+    if (j->is_number_unsigned() && j->get<unsigned long>() > static_cast<unsigned long>(hi))
+      throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be in " + range + ", got " + j->dump());
     v = j->is_number_integer() ? j->get<long>() : long(j->get<double>());
   }
   if (v < lo || v > hi)
@@ -120,6 +122,38 @@ std::vector<double> ObjectReader::numbers(const std::string& key, const std::vec
       throw SpecError("out_of_range", field(key),
                       "'" + field(key) + "' values must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(x));
   normalized_[key] = v;
+  return v;
+}
+
+std::vector<long> ObjectReader::integers(const std::string& key, long lo, long hi, std::size_t max_items) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  std::vector<long> v;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of integers");
+    if (j->size() > max_items)
+      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
+    for (const auto& e : *j) {
+      if (!e.is_number_integer())
+        throw SpecError("wrong_type", field(key), "'" + field(key) + "' must hold only integers in " + range + ", got " + e.dump());
+      const long x = e.get<long>();
+      if (x < lo || x > hi || (e.is_number_unsigned() && e.get<unsigned long>() > (unsigned long)hi))
+        throw SpecError("out_of_range", field(key), "'" + field(key) + "' values must be in " + range + ", got " + e.dump());
+      v.push_back(x);
+    }
+  }
+  normalized_[key] = v;
+  return v;
+}
+
+std::vector<nlohmann::json> ObjectReader::objects(const std::string& key, std::size_t max_items) {
+  std::vector<nlohmann::json> v;
+  if (const nlohmann::json* j = find(key)) {
+    if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of objects");
+    if (j->size() > max_items)
+      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " entries");
+    for (const auto& e : *j) v.push_back(e);
+  }
+  normalized_[key] = nlohmann::json::array();
   return v;
 }
 

@@ -27,6 +27,13 @@ class ObjectReader {
   /// An array of numbers each in [lo, hi], at most max_items.
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, double lo, double hi,
                               std::size_t max_items);
+  /// An array of integers each in [lo, hi], at most max_items.
+  std::vector<long> integers(const std::string& key, long lo, long hi, std::size_t max_items);
+  /// The elements of an array of objects (absent = empty), for reading each with its own ObjectReader
+  /// (path "key[i]").
+  std::vector<nlohmann::json> objects(const std::string& key, std::size_t max_items);
+  /// Stores an already normalised value (e.g. an array of objects read element by element).
+  void set_normalized(const std::string& key, nlohmann::json value) { normalized_[key] = std::move(value); }
   /// Marks a key as known (it is read elsewhere, e.g. a nested object).
   void known(const std::string& key) { seen_.insert(key); }
 

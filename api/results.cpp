@@ -48,3 +48,85 @@ std::string curve_csv(const TwoCubeResult& r) {
 }
 
 }  // namespace granulab::api
+
+namespace granulab::api {
+
+nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& spec) {
+  const double sphere_steps = double(r.spheres) * double(r.steps);
+  const double p0 = spec["loading"]["confining_pressure"].get<double>();
+  const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve);
+  double peak = 0, peak_strain = 0;
+  for (const CrystalRow& row : r.curve)
+    if (row.deviator > peak) peak = row.deviator, peak_strain = row.strain;
+  nlohmann::json s;
+  s["experiment"] = "crystal_compression";
+  s["engine_version"] = engine_version();
+  s["spec"] = spec;
+  s["grains"] = r.grains;
+  s["knocked_out"] = r.knocked_out;
+  s["spheres"] = r.spheres;
+  s["steps"] = r.steps;
+  s["compression_steps"] = r.compression_steps;
+  s["time_step"] = r.time_step;
+  s["wall_seconds"] = r.wall_seconds;
+  s["threads"] = r.threads;
+  s["sphere_steps_per_second"] = r.wall_seconds > 0 ? sphere_steps / r.wall_seconds : 0.0;
+  s["seconds_per_step"] = r.steps > 0 ? r.wall_seconds / r.steps : 0.0;
+  s["sphere_diameter"] = r.sphere_diameter;
+  s["normal_stiffness"] = r.normal_stiffness;
+  s["spheres_per_face"] = r.spheres_per_face;
+  s["prestrain"] = r.prestrain;
+  s["strain_rate"] = r.strain_rate;
+  s["initial_length"] = r.initial_length;
+  s["cross_section"] = r.cross_section;
+  s["neighbor_rebuilds"] = r.rebuilds;
+  s["confinement"] = {{"steps", r.confinement.steps},
+                      {"converged", r.confinement.converged},
+                      {"stress_top", r.confinement.stress_top},
+                      {"stress_bottom", r.confinement.stress_bottom},
+                      {"lateral_stress_x", r.confinement.lateral_stress_x},
+                      {"lateral_stress_y", r.confinement.lateral_stress_y},
+                      {"kinetic_elastic_ratio", r.confinement.kinetic_elastic_ratio}};
+  // The paper does not say whether its sigma_y ~ 7 p0 is the total axial stress or the deviator: both.
+  s["first_yield"] = {{"strain", yield_strain},
+                      {"deviator", yield_deviator},
+                      {"deviator_over_p0", p0 > 0 ? yield_deviator / p0 : 0.0},
+                      {"axial_over_p0", p0 > 0 ? (yield_deviator + p0) / p0 : 0.0}};
+  s["peak"] = {{"strain", peak_strain}, {"deviator", peak}, {"deviator_over_p0", p0 > 0 ? peak / p0 : 0.0},
+               {"axial_over_p0", p0 > 0 ? (peak + p0) / p0 : 0.0}};
+  nlohmann::json snaps = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.snapshots.size(); ++k)
+    snaps.push_back({{"index", k}, {"strain", r.snapshots[k].strain}, {"step", r.snapshots[k].step}});
+  s["snapshots"] = snaps;
+  s["stage_seconds"] = {{"integrate", r.stage_times.integrate},
+                        {"sphere_positions", r.stage_times.spheres},
+                        {"neighbor_rebuild", r.stage_times.rebuild},
+                        {"contact_forces", r.stage_times.contacts},
+                        {"wall_forces", r.stage_times.walls}};
+  return s;
+}
+
+std::string curve_csv(const CrystalResult& r) {
+  std::string out =
+      "strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,lateral_stress,"
+      "kinetic_elastic_ratio,contacts,sliding_contacts\n";
+  char line[512];
+  for (const CrystalRow& row : r.curve) {
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%zu,%zu\n", row.strain, row.stress_top,
+                  row.stress_bottom, row.deviator, row.lateral_strain_x, row.lateral_strain_y, row.lateral_stress,
+                  row.kinetic_elastic_ratio, row.contacts, row.sliding_contacts);
+    out += line;
+  }
+  return out;
+}
+
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double drop) {
+  double best = -1e300, at = 0;
+  for (const CrystalRow& row : curve) {
+    if (row.deviator > best) best = row.deviator, at = row.strain;
+    else if (row.deviator < best - drop * std::abs(best)) break;
+  }
+  return curve.empty() ? std::pair<double, double>{0, 0} : std::pair<double, double>{at, best};
+}
+
+}  // namespace granulab::api

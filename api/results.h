@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/experiments/crystal_compression.h"
 #include "engine/experiments/two_cube_sliding.h"
 
 namespace granulab::api {
@@ -15,5 +16,13 @@ const char* engine_version();
 nlohmann::json summary_json(const TwoCubeResult& r, const nlohmann::json& normalized_spec);
 /// Header row first: slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force
 std::string curve_csv(const TwoCubeResult& r);
+
+nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& normalized_spec);
+/// Header row first: strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,
+/// lateral_stress,kinetic_elastic_ratio,contacts,sliding_contacts
+std::string curve_csv(const CrystalResult& r);
+/// The first yield peak of a crystal curve: the largest deviator before it first falls `drop` (relative)
+/// below its running maximum. Returns {strain, deviator}; {0, 0} for an empty curve.
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double drop = 0.02);
 
 }  // namespace granulab::api

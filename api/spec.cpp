@@ -9,11 +9,11 @@ namespace {
 constexpr const char* kTwoCube = "two_cube_sliding";
 constexpr const char* kCrystal = "crystal_compression";
 
-GrainGeometry read_grain(ObjectReader& r, const GrainGeometry& def, bool cube_only) {
+GrainGeometry read_grain(ObjectReader& r, const GrainGeometry& def) {
   GrainGeometry g;
-  const std::string shape = cube_only ? r.choice("shape", "cube", {"cube"})
-                                      : r.choice("shape", to_string(def.shape), {"rhombic_dodecahedron", "cube"});
-  g.shape = shape == "cube" ? Shape::cube : Shape::rhombic_dodecahedron;
+  // Each experiment has one grain shape: cubes slide in section 3, dodecahedra tile the crystal.
+  r.choice("shape", to_string(def.shape), {to_string(def.shape).c_str()});
+  g.shape = def.shape;
   g.size = r.number("size", def.size, 0, 1, true);
   g.edge_spheres = int(r.integer("edge_spheres", def.edge_spheres, 2, 40));
   g.overlap = r.number("overlap", def.overlap, 0, 0.95);
@@ -30,6 +30,37 @@ Material read_material(ObjectReader& r, const Material& def) {
   return m;
 }
 
+void read_crystal(const nlohmann::json& document, CrystalParams& c, ObjectReader& loading, ObjectReader& output,
+                  nlohmann::json& out) {
+  ObjectReader crystal(document, "crystal", "crystal");
+  c.grains_x = int(crystal.integer("grains_x", c.grains_x, 1, 100));
+  c.rows_z = int(crystal.integer("rows_z", c.rows_z, 1, 400));
+  c.layers_y = int(crystal.integer("layers_y", c.layers_y, 1, 100));
+  const long last_id = long(c.grains_x) * c.rows_z * c.layers_y - 1;
+  for (long id : crystal.integers("knockout", 0, last_id, 100000)) c.knockout_ids.push_back(std::uint32_t(id));
+  const std::vector<nlohmann::json> regions = crystal.objects("knockout_regions", 1000);
+  nlohmann::json normalized_regions = nlohmann::json::array();
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const nlohmann::json holder = {{"region", regions[i]}};
+    ObjectReader r(holder, "region", "crystal.knockout_regions[" + std::to_string(i) + "]");
+    KnockoutRegion k;
+    k.x = r.number("x", 0, -1000, 1000);
+    k.z = r.number("z", 0, -1000, 1000);
+    k.radius = r.number("radius", 1, 0, 1000, true);
+    c.knockout_regions.push_back(k);
+    normalized_regions.push_back(r.finish());
+  }
+  crystal.set_normalized("knockout_regions", normalized_regions);
+  out["crystal"] = crystal.finish();
+
+  c.confining_pressure = loading.number("confining_pressure", c.confining_pressure, 0, 1e8, true);
+  c.max_strain = loading.number("max_strain", c.max_strain, 0, 0.5, true);
+  c.rate_number = loading.number("rate_number", c.rate_number, 1e-8, 0.1);
+  c.mass_scaling = loading.number("mass_scaling", c.mass_scaling, 1, 1e8);
+  c.curve_points = int(output.integer("curve_points", c.curve_points, 1, 100000));
+  c.snapshot_strains = output.numbers("snapshot_strains", c.snapshot_strains, 0, 0.5, 1000);
+}
+
 }  // namespace
 
 Spec parse_spec(const nlohmann::json& document) {
@@ -43,46 +74,38 @@ Spec parse_spec(const nlohmann::json& document) {
   if (!cube) top.known("crystal");
   nlohmann::json out = top.finish();  // the sections are added below, normalised
 
-  TwoCubeParams tc;  // the two-cube defaults; the crystal ones are the contract's example
-  const GrainGeometry grain_default = cube ? tc.grain : GrainGeometry{Shape::rhombic_dodecahedron, 0.01, 10, 0.75};
-  const Material material_default = cube ? tc.material : Material{};
-
+  TwoCubeParams& tc = spec.two_cube;
+  CrystalParams& cr = spec.crystal;
   ObjectReader grain(document, "grain", "grain");
-  tc.grain = read_grain(grain, grain_default, cube);
   ObjectReader material(document, "material", "material");
-  tc.material = read_material(material, material_default);
   ObjectReader loading(document, "loading", "loading");
   ObjectReader output(document, "output", "output");
   ObjectReader run(document, "run", "run");
   spec.threads = int(run.integer("threads", 0, 0, 256));
-  tc.time_step_factor = run.number("time_step_factor", tc.time_step_factor, 0, 0.5, true);
-  tc.skin_factor = run.number("skin_factor", tc.skin_factor, 0, 1, true);
+  const double time_step_factor = run.number("time_step_factor", 0.2, 0, 0.5, true);
+  const double skin_factor = run.number("skin_factor", 0.1, 0, 1, true);
 
   if (cube) {
+    tc.grain = read_grain(grain, tc.grain);
+    tc.material = read_material(material, tc.material);
+    tc.time_step_factor = time_step_factor;
+    tc.skin_factor = skin_factor;
     tc.prestrain = loading.number("prestrain", tc.prestrain, 0, 0.1, true);
     tc.max_slide = loading.number("max_slide", tc.max_slide, 0, 1.5, true);
     tc.rate_number = loading.number("rate_number", tc.rate_number, 1e-8, 0.1);
     tc.curve_points = int(output.integer("curve_points", tc.curve_points, 1, 100000));
   } else {
-    ObjectReader crystal(document, "crystal", "crystal");
-    crystal.integer("grains_x", 8, 1, 100);
-    crystal.integer("rows_z", 18, 1, 400);
-    crystal.integer("layers_y", 6, 1, 100);
-    crystal.numbers("knockout", {}, 0, 1e9, 100000);
-    out["crystal"] = crystal.finish();
-    loading.number("confining_pressure", 60e3, 0, 1e8);
-    loading.number("max_strain", 0.1, 0, 0.5, true);
-    loading.number("rate_number", 1e-4, 1e-8, 0.1);
-    loading.number("mass_scaling", 1, 1, 1e8);
-    output.integer("curve_points", 400, 1, 100000);
-    output.numbers("snapshot_strains", {0.0, 0.01, 0.02, 0.04, 0.08}, 0, 0.5, 1000);
+    cr.grain = read_grain(grain, cr.grain);
+    cr.material = read_material(material, cr.material);
+    cr.time_step_factor = time_step_factor;
+    cr.skin_factor = skin_factor;
+    read_crystal(document, cr, loading, output, out);
   }
   out["grain"] = grain.finish();
   out["material"] = material.finish();
   out["loading"] = loading.finish();
   out["output"] = output.finish();
   out["run"] = run.finish();
-  spec.two_cube = tc;
   spec.normalized = out;
   return spec;
 }

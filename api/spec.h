@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/spec_error.h"
+#include "engine/experiments/crystal_compression.h"
 #include "engine/experiments/two_cube_sliding.h"
 
 namespace granulab::api {
@@ -19,6 +20,7 @@ struct Spec {
   std::string label;
   int threads = 0;             ///< 0 = all cores
   TwoCubeParams two_cube;      ///< filled when experiment == two_cube_sliding
+  CrystalParams crystal;       ///< filled when experiment == crystal_compression
   nlohmann::json normalized;   ///< the spec with every default filled in
 };
 

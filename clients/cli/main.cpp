@@ -16,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/results.h"
+#include "api/snapshot_files.h"
 #include "api/spec.h"
 
 namespace fs = std::filesystem;
@@ -79,6 +80,48 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+void run_two_cube(const api::Spec& spec, const fs::path& out, const ProgressFn& progress) {
+  const TwoCubeParams& p = spec.two_cube;
+  spdlog::info("two_cube_sliding: N_e={} kappa={} f={} eps0={} rate_number={} threads={}", p.grain.edge_spheres,
+               p.grain.overlap, p.material.friction, p.prestrain, p.rate_number, omp_get_max_threads());
+  TwoCubeSliding experiment(p);
+  const TwoCubeResult result = experiment.run(progress);
+  write_file(out / "curve.csv", api::curve_csv(result));
+  write_file(out / "summary.json", api::summary_json(result, spec.normalized).dump(2) + "\n");
+  spdlog::info("{} steps in {:.2f} s ({:.3g} sphere-steps/s); curve: {}", result.steps, result.wall_seconds,
+               result.spheres * double(result.steps) / result.wall_seconds, (out / "curve.csv").string());
+}
+
+// Each snapshot k is written four ways: snapshot_k.json (compact, for the server), snapshot_k.dump
+// (LAMMPS text dump, opens in OVITO), snapshot_k_grains.vtk and snapshot_k_interfaces.vtk (ParaView).
+void run_crystal(const api::Spec& spec, const fs::path& out, const ProgressFn& progress) {
+  const CrystalParams& p = spec.crystal;
+  spdlog::info("crystal_compression: {} x {} x {} grains, N_e={} kappa={} f={} p0={} Pa rate_number={} threads={}",
+               p.grains_x, p.rows_z, p.layers_y, p.grain.edge_spheres, p.grain.overlap, p.material.friction,
+               p.confining_pressure, p.rate_number, omp_get_max_threads());
+  CrystalCompression experiment(p);
+  spdlog::info("{} grains ({} knocked out), {} spheres", experiment.world().bodies().size(),
+               experiment.lattice().knocked_out, experiment.world().sphere_count());
+  const CrystalResult result = experiment.run(progress);
+  if (!result.confinement.converged)
+    spdlog::warn("confinement stopped after {} steps without reaching equilibrium", result.confinement.steps);
+  for (std::size_t k = 0; k < result.snapshots.size(); ++k) {
+    const CrystalSnapshot& s = result.snapshots[k];
+    const std::string stem = (out / "snapshots" / ("snapshot_" + std::to_string(k))).string();
+    write_file(stem + ".json", api::snapshot_json(s).dump() + "\n");
+    write_file(stem + ".dump", api::snapshot_lammps_dump(s));
+    write_file(stem + "_grains.vtk", api::snapshot_grains_vtk(s));
+    write_file(stem + "_interfaces.vtk", api::snapshot_interfaces_vtk(s));
+  }
+  write_file(out / "curve.csv", api::curve_csv(result));
+  const nlohmann::json summary = api::summary_json(result, spec.normalized);
+  write_file(out / "summary.json", summary.dump(2) + "\n");
+  spdlog::info("{} steps in {:.1f} s ({:.4f} s/step); first yield: deviator {:.2f} p0 at strain {:.2e}; curve: {}",
+               result.steps, result.wall_seconds, result.wall_seconds / result.steps,
+               summary["first_yield"]["deviator_over_p0"].get<double>(), summary["first_yield"]["strain"].get<double>(),
+               (out / "curve.csv").string());
+}
+
 int parse_threads(const std::string& text) {
   std::size_t used = 0;
   long n = -1;
@@ -112,24 +155,17 @@ int run(int argc, char** argv) {
   } catch (const api::SpecError& e) {
     throw std::invalid_argument(spec_path + ": " + e.what());
   }
-  if (spec.experiment != api::Experiment::two_cube_sliding)
-    throw std::invalid_argument(spec_path + ": 'experiment': crystal_compression is not available in this build yet");
   if (threads < 0) threads = spec.threads;
   if (threads > 0) omp_set_num_threads(threads);
 
-  fs::create_directories(fs::path(out_dir) / "snapshots");
-  const TwoCubeParams& p = spec.two_cube;
-  spdlog::info("two_cube_sliding: N_e={} kappa={} f={} eps0={} rate_number={} threads={}", p.grain.edge_spheres,
-               p.grain.overlap, p.material.friction, p.prestrain, p.rate_number, omp_get_max_threads());
-  TwoCubeSliding experiment(p);
+  const fs::path out(out_dir);
+  fs::create_directories(out / "snapshots");
   ProgressPrinter printer(quiet);
-  const TwoCubeResult result = experiment.run([&](double f) { return printer(f); });
-
-  write_file(fs::path(out_dir) / "curve.csv", api::curve_csv(result));
-  write_file(fs::path(out_dir) / "summary.json", api::summary_json(result, spec.normalized).dump(2) + "\n");
-  spdlog::info("{} steps in {:.2f} s ({:.3g} sphere-steps/s); curve: {}", result.steps, result.wall_seconds,
-               result.spheres * double(result.steps) / result.wall_seconds,
-               (fs::path(out_dir) / "curve.csv").string());
+  const ProgressFn progress = [&](double f) { return printer(f); };
+  if (spec.experiment == api::Experiment::two_cube_sliding)
+    run_two_cube(spec, out, progress);
+  else
+    run_crystal(spec, out, progress);
   return 0;
 }
 

@@ -50,8 +50,7 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
       }
     }
 
-    double area = 0;
-    Vec3 weighted = Vec3::Zero();
+    double area = 0, weighted = 0;
     for (int iu = 0; iu < nu; ++iu) {
       for (int iv = 0; iv < nv; ++iv) {
         const std::size_t k = std::size_t(iu) * nv + iv;
@@ -67,11 +66,11 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
         torque[b] += (point - body_positions[b]).cross(f);
         touched[b] = true;
         area += cell_area;
-        weighted += cell_area * point;
+        weighted += cell_area * body_positions[b][axis];
       }
     }
     stats_.area[face] = area;
-    stats_.mean_position[face] = area > 0 ? Vec3(weighted / area) : Vec3::Zero();
+    stats_.load_centre[face] = area > 0 ? weighted / area : 0;
   }
   stats_.grains = std::size_t(std::count(touched.begin(), touched.end(), true));
 }

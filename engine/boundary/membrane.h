@@ -17,7 +17,9 @@ namespace granulab {
 
 struct MembraneStats {
   double area[4] = {0, 0, 0, 0};  ///< projected area covered on +x, -x, +y, -y (m^2)
-  Vec3 mean_position[4];          ///< area-weighted mean surface point of each face (m)
+  /// Per face: mean coordinate along the face axis of the centres of the grains it pushes, weighted by
+  /// the area each receives (m). The lever arm of the bag's load on the packing.
+  double load_centre[4] = {0, 0, 0, 0};
   std::size_t grains = 0;         ///< grains receiving a membrane force
 };
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <omp.h>
 #include <stdexcept>
+#include <tuple>
 
 #include "engine/analysis/grain_kinematics.h"
 
@@ -38,6 +39,19 @@ double mean_coordinate(const std::vector<std::uint32_t>& bodies, const std::vect
   return bodies.empty() ? 0 : s / bodies.size();
 }
 
+// Steps (from the start of compression) at which curve rows are recorded: a quarter of the rows over
+// the first 2.5 % of the run, where the crystal goes from elastic to its first yield at strains of
+// order 10 p0 / E, and the rest evenly over the whole run.
+std::vector<std::uint64_t> curve_steps(std::uint64_t total, int points) {
+  std::vector<std::uint64_t> at;
+  const int early = std::max(1, points / 4), late = std::max(1, points - early);
+  for (int k = 1; k <= early; ++k) at.push_back(std::max<std::uint64_t>(1, std::uint64_t(0.025 * total * k / early)));
+  for (int k = 1; k <= late; ++k) at.push_back(total * k / late);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  return at;
+}
+
 }  // namespace
 
 CrystalCompression::CrystalCompression(const CrystalParams& params)
@@ -66,7 +80,6 @@ CrystalCompression::CrystalCompression(const CrystalParams& params)
   bottom_ = world_.add_wall(Wall{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});
 
   cross_section_ = lattice_.extent.x() * lattice_.extent.y();
-  volume_ = cross_section_ * lattice_.extent.z();
   t0_ = contact_time_scale(grain_, params.material.youngs_modulus, density);
   update_membrane();
   world_.compute_forces();
@@ -82,13 +95,17 @@ double CrystalCompression::wall_stress(std::size_t w) const {
   return -wall.force.dot(wall.normal) / cross_section_;
 }
 
-Mat3 CrystalCompression::packing_stress() const {
-  Mat3 s = Mat3::Zero();
+std::pair<double, double> CrystalCompression::lateral_stresses() const {
+  Vec3 fl = Vec3::Zero();  // sum of f_i l_i per axis
   const auto& pairs = world_.neighbors().grain_pairs();
   const auto& forces = world_.pair_forces();
   const auto& x = world_.bodies().position;
-  for (std::size_t p = 0; p < pairs.size(); ++p) s += forces[p] * (x[pairs[p].a] - x[pairs[p].b]).transpose();
-  return s / volume_;
+  for (std::size_t p = 0; p < pairs.size(); ++p) fl += forces[p].cwiseProduct(x[pairs[p].a] - x[pairs[p].b]);
+  const MembraneStats& m = membrane_.stats();
+  const double width = m.load_centre[0] - m.load_centre[1], thickness = m.load_centre[2] - m.load_centre[3];
+  const double area_x = (m.area[0] + m.area[1]) / 2, area_y = (m.area[2] + m.area[3]) / 2;
+  return {area_x > 0 && width > 0 ? fl.x() / (area_x * width) : 0.0,
+          area_y > 0 && thickness > 0 ? fl.y() / (area_y * thickness) : 0.0};
 }
 
 ConfinementReport CrystalCompression::confine(const ProgressFn& progress) {
@@ -123,12 +140,10 @@ ConfinementReport CrystalCompression::confine(const ProgressFn& progress) {
     }
   }
   for (Wall& w : world_.walls()) w.velocity.setZero();
-  const Mat3 s = packing_stress();
   r.steps = world_.steps() - start;
   r.stress_top = wall_stress(top_);
   r.stress_bottom = wall_stress(bottom_);
-  r.lateral_stress_x = s(0, 0);
-  r.lateral_stress_y = s(1, 1);
+  std::tie(r.lateral_stress_x, r.lateral_stress_y) = lateral_stresses();
   const double ee = world_.contact_stats().elastic_energy;
   r.kinetic_elastic_ratio = ee > 0 ? world_.kinetic_energy() / ee : 0;
   return r;
@@ -145,8 +160,8 @@ CrystalRow CrystalCompression::measure(double strain) const {
   const double thickness = mean_coordinate(side_[3], x, 1) - mean_coordinate(side_[2], x, 1);
   row.lateral_strain_x = ref_width_ > 0 ? width / ref_width_ - 1 : 0;
   row.lateral_strain_y = ref_thickness_ > 0 ? thickness / ref_thickness_ - 1 : 0;
-  const Mat3 s = packing_stress();
-  row.lateral_stress = (s(0, 0) + s(1, 1)) / 2;
+  const auto [sx, sy] = lateral_stresses();
+  row.lateral_stress = (sx + sy) / 2;
   const double ee = world_.contact_stats().elastic_energy;
   row.kinetic_elastic_ratio = ee > 0 ? world_.kinetic_energy() / ee : 0;
   row.contacts = world_.contact_stats().contacts;
@@ -198,13 +213,12 @@ CrystalResult CrystalCompression::run(const ProgressFn& progress) {
   const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
   const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   const double dt = world_.settings().time_step;
-  const int points = std::max(1, params_.curve_points);
-  const std::uint64_t per_point = std::max<std::uint64_t>(
-      1, std::uint64_t(std::ceil(params_.max_strain * ref_length_ / (speed * dt) / points)));
-  const std::uint64_t total = per_point * points;
+  const std::uint64_t total =
+      std::max<std::uint64_t>(1, std::uint64_t(std::ceil(params_.max_strain * ref_length_ / (speed * dt))));
   const double approach = params_.max_strain * ref_length_ / (total * dt);  // lands exactly on max_strain
   top.velocity = top.normal * (approach / 2);
   bottom.velocity = bottom.normal * (approach / 2);
+  const std::vector<std::uint64_t> record_at = curve_steps(total, params_.curve_points);
 
   std::vector<double> targets = params_.snapshot_strains;
   std::sort(targets.begin(), targets.end());
@@ -217,14 +231,14 @@ CrystalResult CrystalCompression::run(const ProgressFn& progress) {
   r.curve.push_back(measure(0));
   take_due_snapshots();
   const std::uint64_t first = world_.steps();
-  for (int k = 1; k <= points; ++k) {
-    for (std::uint64_t i = 0; i < per_point; ++i) {
+  for (std::size_t k = 0; k < record_at.size(); ++k) {
+    while (world_.steps() - first < record_at[k]) {
       world_.step();
       if ((world_.steps() - first) % params_.membrane_interval == 0) update_membrane();
       take_due_snapshots();
     }
     r.curve.push_back(measure(strain_now()));
-    if (progress && !progress(0.1 + 0.9 * double(k) / points)) throw Cancelled();
+    if (progress && !progress(0.1 + 0.9 * double(record_at[k]) / total)) throw Cancelled();
   }
 
   r.prestrain = prestrain_for(params_);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine/boundary/membrane.h"
@@ -29,7 +30,7 @@ struct CrystalParams {
   std::vector<KnockoutRegion> knockout_regions;
   double confining_pressure = 60e3;  ///< p0 (Pa)
   double max_strain = 0.1;           ///< compression stops here (-)
-  double rate_number = 1e-4;         ///< R (-)
+  double rate_number = 1e-5;         ///< R (-); converged default, see README "Quasi-static rate"
   double mass_scaling = 1.0;         ///< density factor (-)
   int curve_points = 400;
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};
@@ -47,7 +48,7 @@ struct CrystalRow {
   double stress_top, stress_bottom;   ///< wall force / initial cross-section, compressive positive (Pa)
   double deviator;                    ///< mean of the two - p0 (Pa)
   double lateral_strain_x, lateral_strain_y;  ///< change of width / thickness (extension positive)
-  double lateral_stress;              ///< mean of sigma_xx, sigma_yy of the packing (Love-Weber, Pa)
+  double lateral_stress;              ///< mean of the two lateral_stresses() (Pa)
   double kinetic_elastic_ratio;
   std::size_t contacts, sliding_contacts;
 };
@@ -98,8 +99,12 @@ class CrystalCompression {
   /// Confines, compresses, records; `progress` may stop the run (throws Cancelled).
   CrystalResult run(const ProgressFn& progress = nullptr);
 
-  /// Love-Weber stress of the packing from the sphere contact forces over the sample box volume (Pa).
-  Mat3 packing_stress() const;
+  /// Mean lateral stresses (sigma_xx, sigma_yy) carried by the packing: the contact forces' sum of
+  /// f_x l_x (l = branch vector between grain centres) over the bag's projected area on the x faces
+  /// times the distance between the load centres of the two x faces (same for y). By the virial
+  /// identity this equals p0 when every grain is in equilibrium under contacts and bag alone, so it
+  /// measures how well the packing carries the bag's load (inertia or wall shear show up as a gap).
+  std::pair<double, double> lateral_stresses() const;
 
  private:
   void update_membrane();
@@ -114,7 +119,7 @@ class CrystalCompression {
   Membrane membrane_;
   std::vector<std::uint32_t> ids_;  // grain id of each body
   std::size_t top_ = 0, bottom_ = 1;
-  double cross_section_ = 0, volume_ = 0, t0_ = 0;
+  double cross_section_ = 0, t0_ = 0;
   // Reference state (end of confinement).
   std::vector<Vec3> ref_position_;
   std::vector<Quat> ref_orientation_;
