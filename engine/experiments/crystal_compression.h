@@ -6,7 +6,7 @@
 //  2. confine: membrane pressure p0 on the lateral surface, walls servo-controlled to p0, until the
 //     equilibrium criterion holds (wall stresses within `equilibrium_tolerance` of p0 and kinetic
 //     energy below `kinetic_tolerance` of the elastic energy, at `equilibrium_checks` checks in a row).
-//  3. compress: walls approach at constant speed, strain rate from the rate number
+//  3. compress: the top wall moves down at constant speed (the bottom one is fixed), strain rate from the rate number
 //     R = L eps_dot / sqrt(E / rho) (rho with mass scaling); curve rows and snapshots on the way.
 #pragma once
 

@@ -1,0 +1,128 @@
+// The crystal experiment on small crystals (N_e = 4), where it runs in seconds:
+//  - confinement reaches equilibrium with the walls and the packing's lateral stresses at p0;
+//  - compression yields; the first yield stress is proportional to p0 (frictional, scale-free);
+//  - at the default rate number the first yield peak is converged (within 5 % of half the rate) and
+//    top and bottom walls agree, while at R = 1e-2 the test is dynamic and neither holds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tuple>
+
+#include "api/results.h"
+#include "engine/experiments/crystal_compression.h"
+
+namespace granulab {
+namespace {
+
+CrystalParams small_crystal(double p0, int layers = 3) {
+  CrystalParams p;
+  p.grain.edge_spheres = 4;
+  p.grains_x = 4, p.rows_z = 8, p.layers_y = layers;
+  p.confining_pressure = p0;
+  // The first yield peak lies near 1e-3 strain at these pressures (strains scale with p0 / E).
+  p.max_strain = 2e-3;
+  p.curve_points = 80;
+  p.snapshot_strains = {};
+  return p;
+}
+
+// Four layers: with three, the walls' frictional shear on the single layer they touch adds ~9 % to
+// the y virial, which is the walls' doing, not the bag's.
+TEST(CrystalCompression, ConfinementReachesP0OnWallsAndPacking) {
+  const double p0 = 30e3;
+  CrystalCompression experiment(small_crystal(p0, 4));
+  const ConfinementReport c = experiment.confine();
+  ASSERT_TRUE(c.converged) << c.steps << " steps";
+  EXPECT_NEAR(c.stress_top, p0, 0.01 * p0);  // the servo's own criterion
+  EXPECT_NEAR(c.stress_bottom, p0, 0.01 * p0);
+  EXPECT_NEAR(c.lateral_stress_x, p0, 0.05 * p0);  // carried by the contact network
+  EXPECT_NEAR(c.lateral_stress_y, p0, 0.05 * p0);
+  EXPECT_LT(c.kinetic_elastic_ratio, 1e-4);
+}
+
+struct YieldRun {
+  double peak = 0, peak_strain = 0, top_bottom_gap = 0;
+};
+
+// First yield peak (deviator), and the largest relative top/bottom gap over the loaded part of the run
+// (deviator above half the peak). Early in the elastic rise the top leads the bottom by about E_eff R,
+// one wave transit's worth of loading, which is small in stress but not relative to a tiny deviator.
+YieldRun compress(CrystalParams p) {
+  CrystalCompression experiment(p);
+  const CrystalResult r = experiment.run();
+  YieldRun out;
+  std::tie(out.peak_strain, out.peak) = api::first_yield_peak(r.curve);
+  for (const CrystalRow& row : r.curve) {
+    if (row.deviator < out.peak / 2) continue;
+    const double mean = (row.stress_top + row.stress_bottom) / 2;
+    out.top_bottom_gap = std::max(out.top_bottom_gap, std::abs(row.stress_top - row.stress_bottom) / mean);
+  }
+  return out;
+}
+
+TEST(CrystalCompression, YieldsAndYieldStressIsProportionalToP0) {
+  const YieldRun low = compress(small_crystal(10e3)), high = compress(small_crystal(30e3));
+  // Yield: the deviator rises to a peak well inside the run and falls after it.
+  EXPECT_GT(low.peak, 0.5 * 10e3);
+  EXPECT_GT(high.peak, 0.5 * 30e3);
+  EXPECT_LT(high.peak_strain, 1.9e-3);
+  // Coulomb friction has no scale: 3x the confinement, 3x the strength (within 10 %).
+  EXPECT_NEAR(high.peak / low.peak, 3.0, 0.3) << "peaks " << low.peak << " and " << high.peak;
+}
+
+TEST(CrystalCompression, DefaultRateIsQuasiStatic) {
+  const CrystalParams base = small_crystal(30e3);
+  CrystalParams half = base;
+  half.rate_number = base.rate_number / 2;
+  const YieldRun r = compress(base), h = compress(half);
+  EXPECT_NEAR(r.peak / h.peak, 1.0, 0.05) << "R " << base.rate_number << ": " << r.peak << ", R/2: " << h.peak;
+  EXPECT_LT(r.top_bottom_gap, 0.05);
+}
+
+TEST(CrystalCompression, FastRateIsNotQuasiStatic) {
+  CrystalParams fast = small_crystal(30e3), half = small_crystal(30e3);
+  fast.rate_number = 1e-2, half.rate_number = 5e-3;
+  fast.max_strain = half.max_strain = 0.03;  // a few hundred steps at least
+  const YieldRun f = compress(fast), h = compress(half);
+  const bool rate_dependent = std::abs(f.peak / h.peak - 1) > 0.05;
+  EXPECT_TRUE(rate_dependent || f.top_bottom_gap > 0.05)
+      << "peaks " << f.peak << " vs " << h.peak << ", top/bottom gap " << f.top_bottom_gap;
+  EXPECT_GT(f.top_bottom_gap, 0.05);
+}
+
+TEST(CrystalCompression, KnockoutsRemoveGrainsAndSnapshotsDescribeThem) {
+  CrystalParams p = small_crystal(30e3);
+  p.knockout_ids = {0, 5};
+  p.knockout_regions = {KnockoutRegion{0, 0, 0.8}};
+  p.max_strain = 5e-4;
+  p.snapshot_strains = {0.0, 5e-4};
+  CrystalCompression experiment(p);
+  const std::size_t grains = experiment.world().bodies().size();
+  EXPECT_EQ(grains + experiment.lattice().knocked_out, 96u);
+  EXPECT_GE(experiment.lattice().knocked_out, 2u + 3u);  // the ids, and the central column in 3 layers
+  const CrystalResult r = experiment.run();
+  ASSERT_EQ(r.snapshots.size(), 2u);
+  const CrystalSnapshot& s0 = r.snapshots[0];
+  ASSERT_EQ(s0.id.size(), grains);
+  for (std::uint32_t id : s0.id) EXPECT_TRUE(id != 0 && id != 5);
+  double mean_ratio = 0;
+  for (std::size_t i = 0; i < grains; ++i) {
+    EXPECT_EQ(s0.displacement[i], Vec3::Zero());  // the reference state itself
+    EXPECT_NEAR(s0.max_shear_strain[i], 0, 1e-12);
+    mean_ratio += s0.penetration_ratio[i] / grains;
+  }
+  EXPECT_NEAR(mean_ratio, 1.0, 1e-12);  // Delta / mean Delta averages to one by definition
+  EXPECT_GT(s0.interfaces.size(), grains);
+  // Under compression the grains move and strain.
+  const CrystalSnapshot& s1 = r.snapshots[1];
+  double max_disp = 0, max_strain = 0;
+  for (std::size_t i = 0; i < grains; ++i) {
+    max_disp = std::max(max_disp, s1.displacement[i].norm());
+    max_strain = std::max(max_strain, s1.equivalent_strain[i]);
+  }
+  EXPECT_GT(max_disp, 0);
+  EXPECT_GT(max_strain, 0);
+}
+
+}  // namespace
+}  // namespace granulab
