@@ -599,7 +599,9 @@ TEST_P(InterfaceShiftTest, TangentialShiftOfOneGrainIsTheSlidingDistance) {
   // Interfaces of the shifted grain with its other neighbours also slide; untouched pairs do not (rounding
   // only, the bound of the rigid-motion test).
   for (std::size_t m = 0; m < pairs.size(); ++m)
-    if (pairs[m].first != other && pairs[m].second != other) EXPECT_LT(sliding[m], 1e-13 * kSize) << "pair " << m;
+    if (pairs[m].first != other && pairs[m].second != other) {
+      EXPECT_LT(sliding[m], 1e-13 * kSize) << "pair " << m;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinematics, InterfaceShiftTest,
@@ -746,8 +748,12 @@ TEST_P(MembraneTest, EveryForceIsAlongAFaceNormalAndPointsInward) {
     EXPECT_LE(fb.y() * x.y(), 0) << "body " << b;
     // Bodies off the outermost layer of the x (y) faces get no x (y) force.
     const double x_max = cloud.bodies.back().x(), y_max = std::abs(cloud.bodies.front().y());
-    if (std::abs(x.x()) < x_max - cloud.spacing) EXPECT_EQ(fb.x(), 0) << "body " << b;
-    if (std::abs(x.y()) < y_max - cloud.spacing) EXPECT_EQ(fb.y(), 0) << "body " << b;
+    if (std::abs(x.x()) < x_max - cloud.spacing) {
+      EXPECT_EQ(fb.x(), 0) << "body " << b;
+    }
+    if (std::abs(x.y()) < y_max - cloud.spacing) {
+      EXPECT_EQ(fb.y(), 0) << "body " << b;
+    }
     if (fb != Vec3::Zero()) ++pushed;
   }
   EXPECT_EQ(membrane.stats().grains, pushed);

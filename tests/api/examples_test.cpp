@@ -1,0 +1,37 @@
+// Every spec in examples/ is valid: a broken example is the first thing a newcomer runs into.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "api/spec.h"
+
+namespace granulab::api {
+namespace {
+
+TEST(Examples, EverySpecParses) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(GRANULAB_SOURCE_DIR) + "/examples")) {
+    if (entry.path().extension() != ".json") continue;
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_NO_THROW(parse_spec_text(text.str())) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 14);
+}
+
+TEST(Examples, KnockoutExamplesRemoveFifteenGrains) {
+  for (const char* name : {"fig10_ko_centre", "fig10_ko_slip_plane", "fig10_ko_off_top", "fig10_ko_off_side"}) {
+    std::ifstream in(std::string(GRANULAB_SOURCE_DIR) + "/examples/" + name + ".json");
+    std::stringstream text;
+    text << in.rdbuf();
+    const Spec spec = parse_spec_text(text.str());
+    EXPECT_EQ(spec.crystal.knockout_ids.size(), 15u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace granulab::api
