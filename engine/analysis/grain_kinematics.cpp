@@ -59,7 +59,10 @@ std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const st
     // The material point of each grain at the reference midpoint, carried by its rigid motion.
     const Vec3 pa = pos[a] + q[a] * (ref_q[a].conjugate() * (mid - ref_pos[a]));
     const Vec3 pb = pos[b] + q[b] * (ref_q[b].conjugate() * (mid - ref_pos[b]));
-    const Vec3 n = (pos[b] - pos[a]).normalized();
+    // The interface turns with the grains, not with the line between their centres (which tilts as
+    // they slide): the reference normal carried by each grain's rotation, averaged over the two.
+    const Vec3 n0 = ref_pos[b] - ref_pos[a];
+    const Vec3 n = (q[a] * (ref_q[a].conjugate() * n0) + q[b] * (ref_q[b].conjugate() * n0)).normalized();
     const Vec3 gap = pb - pa;
     out.push_back((gap - gap.dot(n) * n).norm());
   }

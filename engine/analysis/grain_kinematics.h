@@ -26,7 +26,8 @@ std::vector<LocalStrain> local_strains(const std::vector<Vec3>& reference, const
                                        const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
 
 /// Sliding distance at each interface: the two grains' material points that coincided at the reference
-/// interface midpoint, their current separation projected on the current interface plane (m).
+/// interface midpoint, their current separation projected on the interface plane as carried by the
+/// grains' rotations (m).
 std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const std::vector<Quat>& ref_q,
                                       const std::vector<Vec3>& pos, const std::vector<Quat>& q,
                                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);

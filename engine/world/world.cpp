@@ -138,13 +138,16 @@ void World::sphere_contact_forces() {
   for (long p = 0; p < n_pairs; ++p) {
     const GrainPair& gp = pairs[p];
     const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
-    const Vec3 va = bodies_.velocity[gp.a], vb = bodies_.velocity[gp.b];
     const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
     const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
-    const double m_eff = ma * mb / (ma + mb);
+    const double c_n = damping_coefficient(law_, ma * mb / (ma + mb));
+    // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
+    // and the torques follow from the sums of F and (c - x_a) x F: one cross product per contact each.
+    const Vec3 v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
+    const Vec3 dw = wa - wb;
     const Vec3* sa = sphere_pos_.data() + gp.a * per_body;
     const Vec3* sb = sphere_pos_.data() + gp.b * per_body;
-    Vec3 force = Vec3::Zero(), torque_a = Vec3::Zero(), torque_b = Vec3::Zero();
+    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // sum of F, and of (c - x_a) x F
     std::uint32_t contacts = 0, sliding = 0;
     double overlap = 0, energy = 0;
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
@@ -154,23 +157,22 @@ void World::sphere_contact_forces() {
         history[k].setZero();  // separated: the pair forgets its shear history
         continue;
       }
-      const double dist = std::sqrt(dist2);
-      const double delta = d - dist;
-      const Vec3 n = r / dist;
-      const Vec3 c = sa[key_first(keys[k])] - (radius - delta / 2) * n;
-      const Vec3 v_rel = (va + wa.cross(c - xa)) - (vb + wb.cross(c - xb));
-      const ContactForce cf = contact_force(law_, n, delta, v_rel, m_eff, dt, history[k]);
+      const double inv_dist = 1 / std::sqrt(dist2);
+      const double delta = d - dist2 * inv_dist;
+      const Vec3 n = r * inv_dist;
+      const Vec3 arm = sa[key_first(keys[k])] - (radius - delta / 2) * n - xa;
+      const Vec3 v_rel = v0 + dw.cross(arm);
+      const ContactForce cf = contact_force(law_, c_n, n, delta, v_rel, dt, history[k]);
       force += cf.force;
-      torque_a += (c - xa).cross(cf.force);
-      torque_b -= (c - xb).cross(cf.force);
+      moment += arm.cross(cf.force);
       ++contacts;
       sliding += cf.sliding;
       overlap += delta;
       energy += 0.5 * kn * delta * delta + (kt > 0 ? 0.5 * kt * history[k].squaredNorm() : 0.0);
     }
     pair_force_[p] = force;
-    pair_torque_a_[p] = torque_a;
-    pair_torque_b_[p] = torque_b;
+    pair_torque_a_[p] = moment;
+    pair_torque_b_[p] = -moment - (xa - xb).cross(force);
     pair_contacts_[p] = contacts;
     pair_sliding_[p] = sliding;
     pair_overlap_[p] = overlap;
