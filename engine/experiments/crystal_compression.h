@@ -36,7 +36,7 @@ struct CrystalParams {
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};
   double time_step_factor = 0.2;       ///< dt / t0
   double skin_factor = 0.03;           ///< skin / d (see api/spec.cpp)
-  int membrane_interval = 50;          ///< steps between re-detections of the bag's surface
+  int membrane_interval = 200;         ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
   double equilibrium_tolerance = 0.01; ///< confinement: |wall stress - p0| / p0 (-)
   double kinetic_tolerance = 1e-4;     ///< confinement: kinetic / elastic energy (-)
   int equilibrium_checks = 3;          ///< consecutive membrane intervals meeting both
