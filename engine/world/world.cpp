@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/contact/pair_kernel.h"
 #include "engine/dynamics/integrator.h"
 
 namespace granulab {
@@ -130,7 +131,7 @@ void World::sphere_contact_forces() {
   const auto& keys = neighbors_.keys();
   Vec3* history = neighbors_.history().data();
   const std::size_t per_body = grain_.sphere_count();
-  const double d = grain_.diameter(), d2 = d * d, radius = grain_.radius(), dt = settings_.time_step;
+  const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
   const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size());
 
@@ -140,43 +141,24 @@ void World::sphere_contact_forces() {
     const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
     const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
     const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
-    const double c_n = damping_coefficient(law_, ma * mb / (ma + mb));
+    PairKernelConstants c;
+    c.diameter = d, c.radius = radius, c.kn = kn, c.kt = kt;
+    c.cn = damping_coefficient(law_, ma * mb / (ma + mb)), c.ct = c.cn / 2;
+    c.friction = law_.friction, c.dt = dt;
     // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
-    // and the torques follow from the sums of F and (c - x_a) x F: one cross product per contact each.
-    const Vec3 v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
-    const Vec3 dw = wa - wb;
-    const Vec3* sa = sphere_pos_.data() + gp.a * per_body;
-    const Vec3* sb = sphere_pos_.data() + gp.b * per_body;
-    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // sum of F, and of (c - x_a) x F
-    std::uint32_t contacts = 0, sliding = 0;
-    double overlap = 0, energy = 0;
-    for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
-      const Vec3 r = sa[key_first(keys[k])] - sb[key_second(keys[k])];
-      const double dist2 = r.squaredNorm();
-      if (dist2 >= d2) {
-        history[k].setZero();  // separated: the pair forgets its shear history
-        continue;
-      }
-      const double inv_dist = 1 / std::sqrt(dist2);
-      const double delta = d - dist2 * inv_dist;
-      const Vec3 n = r * inv_dist;
-      const Vec3 arm = sa[key_first(keys[k])] - (radius - delta / 2) * n - xa;
-      const Vec3 v_rel = v0 + dw.cross(arm);
-      const ContactForce cf = contact_force(law_, c_n, n, delta, v_rel, dt, history[k]);
-      force += cf.force;
-      moment += arm.cross(cf.force);
-      ++contacts;
-      sliding += cf.sliding;
-      overlap += delta;
-      energy += 0.5 * kn * delta * delta + (kt > 0 ? 0.5 * kt * history[k].squaredNorm() : 0.0);
-    }
-    pair_force_[p] = force;
-    pair_torque_a_[p] = moment;
-    pair_torque_b_[p] = -moment - (xa - xb).cross(force);
-    pair_contacts_[p] = contacts;
-    pair_sliding_[p] = sliding;
-    pair_overlap_[p] = overlap;
-    pair_energy_[p] = energy;
+    // and the torques follow from the sums of F and (c - x_a) x F.
+    c.xa = xa;
+    c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
+    c.dw = wa - wb;
+    const PairKernelSums s = pair_contacts(c, sphere_pos_.data() + gp.a * per_body, sphere_pos_.data() + gp.b * per_body,
+                                           keys.data() + gp.first, gp.count, history + gp.first);
+    pair_force_[p] = s.force;
+    pair_torque_a_[p] = s.moment;
+    pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);
+    pair_contacts_[p] = s.contacts;
+    pair_sliding_[p] = s.sliding;
+    pair_overlap_[p] = s.overlap;
+    pair_energy_[p] = s.energy;
   }
 
   stats_.candidates = keys.size();

@@ -1,0 +1,75 @@
+#include "engine/contact/pair_kernel.h"
+
+#include <cmath>
+
+namespace granulab {
+
+PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* sa_v, const Vec3* sb_v, const std::uint32_t* keys,
+                             std::uint32_t count, Vec3* history_v) {
+  const double* sa = sa_v->data();
+  const double* sb = sb_v->data();
+  double* h = history_v->data();
+  const double d = c.diameter, d2 = d * d, radius = c.radius, kn = c.kn, kt = c.kt, cn = c.cn, ct = c.ct;
+  const double mu = c.friction, dt = c.dt, inv_kt = kt > 0 ? 1 / kt : 0;
+  const double xax = c.xa.x(), xay = c.xa.y(), xaz = c.xa.z();
+  const double v0x = c.v0.x(), v0y = c.v0.y(), v0z = c.v0.z();
+  const double dwx = c.dw.x(), dwy = c.dw.y(), dwz = c.dw.z();
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0;
+  std::uint32_t contacts = 0, sliding = 0;
+
+#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, contacts, sliding)
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t i = 3 * (keys[k] >> 16), j = 3 * (keys[k] & 0xffff);
+    const double ax = sa[i], ay = sa[i + 1], az = sa[i + 2];
+    const double rx = ax - sb[j], ry = ay - sb[j + 1], rz = az - sb[j + 2];
+    const double dist2 = rx * rx + ry * ry + rz * rz;
+    const bool touching = dist2 < d2;
+    const double inv = 1 / std::sqrt(dist2);
+    const double delta = d - dist2 * inv;
+    const double nx = rx * inv, ny = ry * inv, nz = rz * inv;
+    // Contact point relative to x_a, and the relative velocity there.
+    const double lever = radius - 0.5 * delta;
+    const double px = ax - lever * nx - xax, py = ay - lever * ny - xay, pz = az - lever * nz - xaz;
+    const double vx = v0x + dwy * pz - dwz * py, vy = v0y + dwz * px - dwx * pz, vz = v0z + dwx * py - dwy * px;
+    const double vn = vx * nx + vy * ny + vz * nz;
+    const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;
+    const double fn = kn * delta - cn * vn;
+
+    // Shear history: into the current tangent plane, length kept, then the tangential increment.
+    double hx = h[3 * k], hy = h[3 * k + 1], hz = h[3 * k + 2];
+    const double len2 = hx * hx + hy * hy + hz * hz;
+    const double along = hx * nx + hy * ny + hz * nz;
+    hx -= along * nx, hy -= along * ny, hz -= along * nz;
+    const double proj2 = hx * hx + hy * hy + hz * hz;
+    const double keep = proj2 > 0 ? std::sqrt(len2 / proj2) : 1.0;
+    hx = hx * keep + tx * dt, hy = hy * keep + ty * dt, hz = hz * keep + tz * dt;
+
+    // Tangential force with the Coulomb cap; on slip the spring is reset to match the cap.
+    double gx = -kt * hx - ct * tx, gy = -kt * hy - ct * ty, gz = -kt * hz - ct * tz;
+    const double cap = mu * std::abs(fn);
+    const double g2 = gx * gx + gy * gy + gz * gz;
+    const bool slip = g2 > cap * cap;
+    const double scale = slip ? cap / std::sqrt(g2) : 1.0;
+    gx *= scale, gy *= scale, gz *= scale;
+    hx = slip ? -(gx + ct * tx) * inv_kt : hx;
+    hy = slip ? -(gy + ct * ty) * inv_kt : hy;
+    hz = slip ? -(gz + ct * tz) * inv_kt : hz;
+
+    // Separated pairs forget their history and exert nothing.
+    h[3 * k] = touching ? hx : 0.0, h[3 * k + 1] = touching ? hy : 0.0, h[3 * k + 2] = touching ? hz : 0.0;
+    const double Fx = touching ? fn * nx + gx : 0.0, Fy = touching ? fn * ny + gy : 0.0, Fz = touching ? fn * nz + gz : 0.0;
+    fx += Fx, fy += Fy, fz += Fz;
+    mx += py * Fz - pz * Fy, my += pz * Fx - px * Fz, mz += px * Fy - py * Fx;
+    contacts += touching;
+    sliding += touching && slip;
+    overlap += touching ? delta : 0.0;
+    energy += touching ? 0.5 * kn * delta * delta + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
+  }
+  PairKernelSums s;
+  s.force = Vec3(fx, fy, fz);
+  s.moment = Vec3(mx, my, mz);
+  s.contacts = contacts, s.sliding = sliding, s.overlap = overlap, s.energy = energy;
+  return s;
+}
+
+}  // namespace granulab
