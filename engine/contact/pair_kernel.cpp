@@ -4,14 +4,17 @@
 
 namespace granulab {
 
-PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* sa_v, const Vec3* sb_v, const std::uint32_t* keys,
+PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, const std::uint32_t* keys,
                              std::uint32_t count, Vec3* history_v) {
-  const double* sa = sa_v->data();
-  const double* sb = sb_v->data();
+  const double* o = offsets->data();
   double* h = history_v->data();
+  const double a00 = c.ra(0, 0), a01 = c.ra(0, 1), a02 = c.ra(0, 2), a10 = c.ra(1, 0), a11 = c.ra(1, 1),
+               a12 = c.ra(1, 2), a20 = c.ra(2, 0), a21 = c.ra(2, 1), a22 = c.ra(2, 2);
+  const double b00 = c.rb(0, 0), b01 = c.rb(0, 1), b02 = c.rb(0, 2), b10 = c.rb(1, 0), b11 = c.rb(1, 1),
+               b12 = c.rb(1, 2), b20 = c.rb(2, 0), b21 = c.rb(2, 1), b22 = c.rb(2, 2);
+  const double dxx = c.xa.x() - c.xb.x(), dxy = c.xa.y() - c.xb.y(), dxz = c.xa.z() - c.xb.z();
   const double d = c.diameter, d2 = d * d, radius = c.radius, kn = c.kn, kt = c.kt, cn = c.cn, ct = c.ct;
   const double mu = c.friction, dt = c.dt, inv_kt = kt > 0 ? 1 / kt : 0;
-  const double xax = c.xa.x(), xay = c.xa.y(), xaz = c.xa.z();
   const double v0x = c.v0.x(), v0y = c.v0.y(), v0z = c.v0.z();
   const double dwx = c.dw.x(), dwy = c.dw.y(), dwz = c.dw.z();
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0;
@@ -20,8 +23,13 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* sa_v, con
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, contacts, sliding)
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::uint32_t i = 3 * (keys[k] >> 16), j = 3 * (keys[k] & 0xffff);
-    const double ax = sa[i], ay = sa[i + 1], az = sa[i + 2];
-    const double rx = ax - sb[j], ry = ay - sb[j + 1], rz = az - sb[j + 2];
+    // Sphere i of a relative to x_a, sphere j of b relative to x_b, both in the world frame.
+    const double oix = o[i], oiy = o[i + 1], oiz = o[i + 2], ojx = o[j], ojy = o[j + 1], ojz = o[j + 2];
+    const double ax = a00 * oix + a01 * oiy + a02 * oiz, ay = a10 * oix + a11 * oiy + a12 * oiz,
+                 az = a20 * oix + a21 * oiy + a22 * oiz;
+    const double bx = b00 * ojx + b01 * ojy + b02 * ojz, by = b10 * ojx + b11 * ojy + b12 * ojz,
+                 bz = b20 * ojx + b21 * ojy + b22 * ojz;
+    const double rx = dxx + ax - bx, ry = dxy + ay - by, rz = dxz + az - bz;
     const double dist2 = rx * rx + ry * ry + rz * rz;
     const bool touching = dist2 < d2;
     const double inv = 1 / std::sqrt(dist2);
@@ -29,7 +37,7 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* sa_v, con
     const double nx = rx * inv, ny = ry * inv, nz = rz * inv;
     // Contact point relative to x_a, and the relative velocity there.
     const double lever = radius - 0.5 * delta;
-    const double px = ax - lever * nx - xax, py = ay - lever * ny - xay, pz = az - lever * nz - xaz;
+    const double px = ax - lever * nx, py = ay - lever * ny, pz = az - lever * nz;
     const double vx = v0x + dwy * pz - dwz * py, vy = v0y + dwz * px - dwx * pz, vz = v0z + dwx * py - dwy * px;
     const double vn = vx * nx + vy * ny + vz * nz;
     const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;

@@ -34,6 +34,7 @@ BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion mot
   const BodyId id = bodies_.add(x, q, density * grain_.volume(), density * grain_.principal_inertia_per_density(), motion);
   sphere_pos_.resize(bodies_.size() * grain_.sphere_count());
   overlap_sum_.resize(bodies_.size(), 0.0);
+  spheres_current_ = false;
   external_force_.resize(bodies_.size(), Vec3::Zero());
   external_torque_.resize(bodies_.size(), Vec3::Zero());
   built_ = false;
@@ -66,7 +67,7 @@ void World::step() {
 
 void World::compute_forces() {
   update_angular_velocity(bodies_);  // in case momenta were set by hand since the last drift
-  update_sphere_positions();
+  spheres_current_ = false;           // poses may have changed; positions are refreshed on demand
   if (needs_rebuild()) rebuild();
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     bodies_.force[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
@@ -76,7 +77,7 @@ void World::compute_forces() {
   wall_forces();
 }
 
-void World::update_sphere_positions() {
+void World::update_sphere_positions() const {
   StageTimer t(times_.spheres);
   const auto& offsets = grain_.offsets();
   const long n_bodies = long(bodies_.size());
@@ -88,6 +89,7 @@ void World::update_sphere_positions() {
     Vec3* out = sphere_pos_.data() + b * per_body;
     for (std::size_t i = 0; i < per_body; ++i) out[i] = x + r * offsets[i];
   }
+  spheres_current_ = true;
 }
 
 // A sphere of body b has moved by at most |dx| + max_offset * |R - R0|, with |R - R0| = 2 sin(theta/2)
@@ -106,7 +108,13 @@ bool World::needs_rebuild() const {
   return false;
 }
 
+const std::vector<Vec3>& World::sphere_positions() const {
+  if (!spheres_current_) update_sphere_positions();
+  return sphere_pos_;
+}
+
 void World::rebuild() {
+  sphere_positions();
   StageTimer t(times_.rebuild);
   neighbors_.rebuild(bodies_, sphere_pos_, walls_);
   built_position_ = bodies_.position;
@@ -130,7 +138,7 @@ void World::sphere_contact_forces() {
   const auto& pairs = neighbors_.grain_pairs();
   const auto& keys = neighbors_.keys();
   Vec3* history = neighbors_.history().data();
-  const std::size_t per_body = grain_.sphere_count();
+  const Vec3* offsets = grain_.offsets().data();
   const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
   const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size());
@@ -147,11 +155,12 @@ void World::sphere_contact_forces() {
     c.friction = law_.friction, c.dt = dt;
     // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
     // and the torques follow from the sums of F and (c - x_a) x F.
-    c.xa = xa;
+    c.xa = xa, c.xb = xb;
+    c.ra = bodies_.orientation[gp.a].toRotationMatrix();
+    c.rb = bodies_.orientation[gp.b].toRotationMatrix();
     c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
     c.dw = wa - wb;
-    const PairKernelSums s = pair_contacts(c, sphere_pos_.data() + gp.a * per_body, sphere_pos_.data() + gp.b * per_body,
-                                           keys.data() + gp.first, gp.count, history + gp.first);
+    const PairKernelSums s = pair_contacts(c, offsets, keys.data() + gp.first, gp.count, history + gp.first);
     pair_force_[p] = s.force;
     pair_torque_a_[p] = s.moment;
     pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);
@@ -192,19 +201,21 @@ void World::wall_forces() {
   const auto& keys = neighbors_.wall_keys();
   Vec3* history = neighbors_.wall_history().data();
   const std::size_t per_body = grain_.sphere_count();
+  const Vec3* offsets = grain_.offsets().data();
   const double radius = grain_.radius(), dt = settings_.time_step;
   stats_.wall_contacts = 0;
   for (std::size_t k = 0; k < keys.size(); ++k) {
     Wall& w = walls_[keys[k] >> 32];
     const std::size_t s = keys[k] & 0xffffffffu;
     const BodyId b = BodyId(s / per_body);
-    const double dist = w.distance(sphere_pos_[s]);
+    const Vec3 centre = bodies_.position[b] + bodies_.orientation[b] * offsets[s % per_body];
+    const double dist = w.distance(centre);
     const double delta = radius - dist;
     if (delta <= 0) {
       history[k].setZero();
       continue;
     }
-    const Vec3 c = sphere_pos_[s] - dist * w.normal;  // foot of the sphere centre on the plane
+    const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
     const Vec3 arm = c - bodies_.position[b];
     const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
     const ContactForce cf = contact_force(law_, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);

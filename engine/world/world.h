@@ -1,7 +1,7 @@
 // The simulation world: identical rigid grains (one shared template), plane walls, and the time step
 // as a short list of named, timed stages (STYLE.md):
-//   kick/drift -> move walls -> update sphere positions -> rebuild candidates if any sphere moved past
-//   half the skin -> sphere contact forces -> wall forces -> kick.
+//   kick/drift -> move walls -> rebuild candidates if any sphere moved past half the skin (sphere
+//   positions are computed for it) -> sphere contact forces -> wall forces -> kick.
 // Contact forces are computed per grain pair into per-pair slots (in parallel) and then reduced into
 // the bodies in pair order, so the answer does not depend on the number of threads.
 #pragma once
@@ -52,7 +52,9 @@ class World {
   std::vector<Wall>& walls() { return walls_; }
   const std::vector<Wall>& walls() const { return walls_; }
   const NeighborList& neighbors() const { return neighbors_; }
-  const std::vector<Vec3>& sphere_positions() const { return sphere_pos_; }
+  /// World positions of all spheres, body-major (body * spheres per grain + local), computed from the
+  /// poses when asked: the contact loops work from poses and template offsets instead.
+  const std::vector<Vec3>& sphere_positions() const;
   std::size_t sphere_count() const { return sphere_pos_.size(); }
 
   /// Forces and torques for the current state (sphere positions, candidates, contacts, walls).
@@ -77,7 +79,7 @@ class World {
   double kinetic_energy() const;
 
  private:
-  void update_sphere_positions();
+  void update_sphere_positions() const;
   bool needs_rebuild() const;
   void rebuild();
   void sphere_contact_forces();
@@ -91,7 +93,9 @@ class World {
   NeighborList neighbors_;
   double max_offset_ = 0;  // largest |offset|, for the rotation part of a sphere's displacement
 
-  std::vector<Vec3> sphere_pos_;
+  mutable std::vector<Vec3> sphere_pos_;
+  mutable bool spheres_current_ = false;
+  mutable StageTimes times_;
   // Poses at the last rebuild, for the half-skin rule.
   std::vector<Vec3> built_position_;
   std::vector<Quat> built_orientation_;
@@ -107,7 +111,6 @@ class World {
 
   double time_ = 0;
   std::uint64_t steps_ = 0, rebuilds_ = 0;
-  StageTimes times_;
   ContactStats stats_;
 };
 
