@@ -25,7 +25,7 @@ using namespace granulab;
 namespace {
 
 const char* kUsage =
-    "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet]\n"
+    "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
     "The spec format is in the README (every field has a default: {\"experiment\": \"two_cube_sliding\"}).\n";
@@ -122,6 +122,23 @@ void run_crystal(const api::Spec& spec, const fs::path& out, const ProgressFn& p
                (out / "curve.csv").string());
 }
 
+// Per-stage timings of the time step, from what the run wrote to summary.json.
+void print_profile(const fs::path& summary_path) {
+  const nlohmann::json s = nlohmann::json::parse(read_file(summary_path));
+  const double steps = std::max(1.0, s["steps"].get<double>()), wall = s["wall_seconds"].get<double>();
+  std::fprintf(stderr, "%-18s %10s %12s %7s\n", "stage", "seconds", "ms/step", "share");
+  double staged = 0;
+  for (const auto& [stage, seconds] : s["stage_seconds"].items()) {
+    const double t = seconds.get<double>();
+    staged += t;
+    std::fprintf(stderr, "%-18s %10.3f %12.4f %6.1f%%\n", stage.c_str(), t, 1e3 * t / steps, 100 * t / wall);
+  }
+  std::fprintf(stderr, "%-18s %10.3f %12.4f %6.1f%%\n", "other (membrane,", wall - staged, 1e3 * (wall - staged) / steps,
+               100 * (wall - staged) / wall);
+  std::fprintf(stderr, "%-18s\n%-18s %10.3f %12.4f  (%g steps, %d threads)\n", " records, I/O)", "total", wall,
+               1e3 * wall / steps, steps, s["threads"].get<int>());
+}
+
 int parse_threads(const std::string& text) {
   std::size_t used = 0;
   long n = -1;
@@ -138,12 +155,13 @@ int parse_threads(const std::string& text) {
 int run(int argc, char** argv) {
   std::string spec_path, out_dir;
   int threads = -1;
-  bool quiet = false;
+  bool quiet = false, profile = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
     else if (a == "--threads" && i + 1 < argc) threads = parse_threads(argv[++i]);
     else if (a == "--quiet") quiet = true;
+    else if (a == "--profile") profile = true;
     else if (spec_path.empty() && a.rfind("--", 0) != 0) spec_path = a;
     else throw std::invalid_argument("unexpected argument '" + a + "'\n" + kUsage);
   }
@@ -166,6 +184,7 @@ int run(int argc, char** argv) {
     run_two_cube(spec, out, progress);
   else
     run_crystal(spec, out, progress);
+  if (profile) print_profile(out / "summary.json");
   return 0;
 }
 
