@@ -3,7 +3,8 @@
 // E = 3 GPa, rho = 1200, f = 0.35, zeta = 0.05, k_t/k_n = 2/7; default 6 x 6 x 6 = 216 grains, 210,384
 // spheres) built from build_crystal() with a small pre-strain eps0 so that neighbouring faces touch;
 // confined by two fixed plane walls normal to +-x and compressed by two walls normal to +-z, all four
-// placed just touching the outermost sphere surfaces; the bottom wall is fixed, the top one moves down
+// placed touching the outermost sphere surfaces (but for a gap of v dt / 2, see main()); the bottom wall
+// is fixed, the top one moves down
 // at the constant speed v = R sqrt(E/rho) from step 0. dt = 0.2 t0 (model.h). The lateral y faces are free.
 //
 // It runs S steps, records the normal force received by each wall every M steps, times the stepping
@@ -192,11 +193,16 @@ int main(int argc, char** argv) try {
   World world(grain, contact_law(grain, mat), settings);
   for (const LatticeSite& s : lattice.sites) world.add_grain(s.position, lattice.orientation, mat.density);
 
-  // Walls just touching the outermost sphere surfaces (the x ones lie on the flat faces of the end grains).
+  // Walls touching the outermost sphere surfaces (the x ones lie on the flat faces of the end grains), but
+  // for a gap of half the top wall's travel in one step: the outer spheres of a perfect lattice are coplanar,
+  // and with a zero gap their overlaps with a wall start at round-off level, so which of them count as
+  // touching (and feel the damping force c_n v from the moving wall) would depend on the last bit of
+  // their positions, which the two codes compute differently. With the gap every outer sphere of the top
+  // row touches the top wall from step 1 with overlap v dt / 2, in both codes.
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
   for (const Vec3& x : world.sphere_positions()) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double r = grain.radius();
   const double speed = o.rate * std::sqrt(mat.youngs_modulus / mat.density);
+  const double r = grain.radius() + 0.5 * speed * settings.time_step;
   world.add_wall(Wall{Vec3(lo.x() - r, 0, 0), Vec3::UnitX(), Vec3::Zero(), Vec3::Zero()});
   world.add_wall(Wall{Vec3(hi.x() + r, 0, 0), -Vec3::UnitX(), Vec3::Zero(), Vec3::Zero()});
   world.add_wall(Wall{Vec3(0, 0, lo.z() - r), Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});

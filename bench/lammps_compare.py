@@ -146,7 +146,7 @@ def lammps_input(p, skin, with_forces, forces_file):
             "compute         f_xhi all reduce sum f_wall_xhi[2]",
             "compute         f_zlo all reduce sum f_wall_zlo[4]",
             "compute         f_zhi all reduce sum f_wall_zhi[4]",
-            "fix             forces all ave/time %d 1 %d c_f_xlo c_f_xhi c_f_zlo c_f_zhi file %s" % (every, every, forces_file),
+            "fix             forces all ave/time %d 1 %d c_f_xlo c_f_xhi c_f_zlo c_f_zhi file %s format \" %%.12g\"" % (every, every, forces_file),
         ]
     lines += [
         "thermo_style    custom step",
