@@ -54,7 +54,7 @@ namespace granulab::api {
 nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& spec) {
   const double sphere_steps = double(r.spheres) * double(r.steps);
   const double p0 = spec["loading"]["confining_pressure"].get<double>();
-  const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve);
+  const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve, p0);
   double peak = 0, peak_strain = 0;
   for (const CrystalRow& row : r.curve)
     if (row.deviator > peak) peak = row.deviator, peak_strain = row.strain;
@@ -106,27 +106,33 @@ nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& spec) 
   return s;
 }
 
-std::string curve_csv(const CrystalResult& r) {
-  std::string out =
-      "strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,lateral_stress,"
-      "kinetic_elastic_ratio,contacts,sliding_contacts\n";
+std::string crystal_curve_header() {
+  return "strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,lateral_stress,"
+         "kinetic_elastic_ratio,contacts,sliding_contacts\n";
+}
+
+std::string crystal_curve_row(const CrystalRow& row) {
   char line[512];
-  for (const CrystalRow& row : r.curve) {
-    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%zu,%zu\n", row.strain, row.stress_top,
-                  row.stress_bottom, row.deviator, row.lateral_strain_x, row.lateral_strain_y, row.lateral_stress,
-                  row.kinetic_elastic_ratio, row.contacts, row.sliding_contacts);
-    out += line;
-  }
+  std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%zu,%zu\n", row.strain, row.stress_top,
+                row.stress_bottom, row.deviator, row.lateral_strain_x, row.lateral_strain_y, row.lateral_stress,
+                row.kinetic_elastic_ratio, row.contacts, row.sliding_contacts);
+  return line;
+}
+
+std::string curve_csv(const CrystalResult& r) {
+  std::string out = crystal_curve_header();
+  for (const CrystalRow& row : r.curve) out += crystal_curve_row(row);
   return out;
 }
 
-std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double drop) {
-  double best = -1e300, at = 0;
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
+  double best = 0, at = 0;
   for (const CrystalRow& row : curve) {
+    if (best < 0.1 * p0 && row.deviator < 0.1 * p0) continue;  // still in the noise around zero
     if (row.deviator > best) best = row.deviator, at = row.strain;
-    else if (row.deviator < best - drop * std::abs(best)) break;
+    else if (row.deviator < best - drop * best) break;
   }
-  return curve.empty() ? std::pair<double, double>{0, 0} : std::pair<double, double>{at, best};
+  return {at, best};
 }
 
 }  // namespace granulab::api

@@ -21,8 +21,12 @@ nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& normal
 /// Header row first: strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,
 /// lateral_stress,kinetic_elastic_ratio,contacts,sliding_contacts
 std::string curve_csv(const CrystalResult& r);
-/// The first yield peak of a crystal curve: the largest deviator before it first falls `drop` (relative)
-/// below its running maximum. Returns {strain, deviator}; {0, 0} for an empty curve.
-std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double drop = 0.02);
+/// The header line and one row line (newline included) of the crystal curve, for writing as it runs.
+std::string crystal_curve_header();
+std::string crystal_curve_row(const CrystalRow& row);
+/// The first yield peak of a crystal curve: once the deviator exceeds 0.1 p0, the largest deviator
+/// before it first falls `drop` (relative) below its running maximum. Returns {strain, deviator};
+/// {0, 0} if the deviator never reaches 0.1 p0.
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop = 0.02);
 
 }  // namespace granulab::api

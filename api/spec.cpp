@@ -1,5 +1,7 @@
 #include "api/spec.h"
 
+#include <cmath>
+
 #include "api/object_reader.h"
 
 namespace granulab::api {
@@ -58,7 +60,25 @@ void read_crystal(const nlohmann::json& document, CrystalParams& c, ObjectReader
   c.rate_number = loading.number("rate_number", c.rate_number, 1e-8, 0.1);
   c.mass_scaling = loading.number("mass_scaling", c.mass_scaling, 1, 1e8);
   c.curve_points = int(output.integer("curve_points", c.curve_points, 1, 100000));
-  c.snapshot_strains = output.numbers("snapshot_strains", c.snapshot_strains, 0, 0.5, 1000);
+  // By default, the paper's snapshot strains that the run reaches; explicit ones must be reachable.
+  std::vector<double> reachable;
+  for (double e : c.snapshot_strains)
+    if (e <= c.max_strain) reachable.push_back(e);
+  c.snapshot_strains = output.numbers("snapshot_strains", reachable, 0, c.max_strain, 1000);
+
+  // Cross-field limits. The pre-strain that carries p0 must stay a small elastic overlap.
+  const double prestrain = std::sqrt(2.0) * c.confining_pressure / c.material.youngs_modulus;
+  if (prestrain > 0.02)
+    throw SpecError("out_of_range", "loading.confining_pressure",
+                    "'loading.confining_pressure' gives a pre-strain sqrt2 p0 / E = " + std::to_string(prestrain) +
+                        " > 0.02: lower it or raise 'material.youngs_modulus'");
+  // Memory: about 60 bytes per sphere; 5e7 spheres is 3 GB.
+  const double m = c.grain.edge_spheres - 2, per_grain = 12 * m * m + 24 * m + 14;
+  const double spheres = double(c.grains_x) * c.rows_z * c.layers_y * per_grain;
+  if (spheres > 5e7)
+    throw SpecError("out_of_range", "crystal",
+                    "'crystal' would hold " + std::to_string(long(spheres)) +
+                        " spheres (grains_x x rows_z x layers_y x spheres per grain); the limit is 50,000,000");
 }
 
 }  // namespace

@@ -24,22 +24,32 @@ modelling details below, which are second order in the tiny per-step rotations a
 (delta/d ~ 1e-3):
   * rigid-body integrator: LAMMPS' fix rigid/small (Richardson-iterated quaternion update) vs our
     velocity Verlet with the NO_SQUISH free-rotor splitting. The RD's inertia is isotropic, so the free
-    rotation is exact in both; the schemes differ at O(dt^2) per step in how torque enters.
+    rotation is exact in both; the schemes differ only in how the torque
+    updates the orientation within a step, at O(dt^2).
   * shear history: LAMMPS adds v_t dt and then projects the spring onto the new tangent plane, shortening
     it by O(theta^2) (theta = the contact normal's rotation in one step, < 1e-5 here); we rotate it into
     the plane keeping its length, then add v_t dt.
-  * contact point: LAMMPS takes the relative velocity at one radius from each sphere centre along the
-    line of centres, we at the mid-point of the overlap (a shift of delta/2, ~1e-3 d, in the lever arm of
-    the rotational velocity); on walls LAMMPS uses one radius from the centre, we the foot of the centre on
-    the plane.
-  * walls: LAMMPS' region wall gets its velocity from the finite difference of the region's displacement
-    (exact for constant speed) and both use m_eff = the rigid body's mass (as ours).
+  * contact point: LAMMPS evaluates the rotational part of the relative velocity and applies the
+    tangential force at one radius from each sphere centre (so its two torques differ by delta x F_t), we
+    at the mid-point of the overlap for both spheres (a lever-arm difference of delta/2 ~ 1e-4 d); on walls
+    LAMMPS uses one radius from the centre, we the foot of the centre on the plane.
+  * walls: the fixed ones are fix wall/gran xplane/zplane (default, --lmp-walls plane) or plane regions
+    (--lmp-walls region; same forces, ~16 % slower LAMMPS steps); the moving top wall is a region moved by
+    a displacement variable, its velocity taken from the finite difference of the displacement (exact at
+    constant speed); LAMMPS uses m_eff = the rigid body's mass on walls, as we do.
+  * both codes use the same time step and neighbour rule (rebuild when something moved half the skin); the
+    skins differ (ours 0.03 d, the engine default; LAMMPS 0.1 d, its fastest of 0.05/0.1/0.2 d here), which
+    does not change forces.
 At 1e-3 relative per quantity and with the block's response smooth over 2000 steps these stay well below
 1 %; where the force is small (< 10 % of its maximum, e.g. while a wall is about to lose contact) relative
 differences are meaningless and are not tested.
+The walls start v dt / 2 away from the outermost spheres (bench_compare): with a zero gap, the coplanar
+outer spheres would start at round-off-level overlaps and the damping force c_n v of the moving wall would
+switch on for a round-off-dependent subset of them (0.1-1 % discrepancies in the first records).
 
 Usage: /usr/bin/python3 bench/lammps_compare.py [--steps 2000] [--record-every 20] [--grains 6]
-           [--out out/lammps_compare] [--lmp-skin 0.1] [--tolerance 0.01] [--threshold 0.1] [--no-mpi]
+           [--out out/lammps_compare] [--lmp-skin 0.1] [--lmp-walls plane|region] [--tolerance 0.01]
+           [--threshold 0.1] [--no-mpi]
 Needs build/bench/bench_compare (run `make build` first). LAMMPS is a comparison tool only: nothing in
 engine/, api/ or server/ depends on it and `make test` does not need it.
 """
@@ -97,8 +107,12 @@ def read_params(path):
     return params
 
 
-def lammps_input(p, skin, with_forces, forces_file):
-    """The LAMMPS input script for the files written by bench_compare --write-lammps."""
+def lammps_input(p, skin, with_forces, forces_file, walls="plane"):
+    """The LAMMPS input script for the files written by bench_compare --write-lammps.
+
+    walls = "region": all four walls are fix wall/gran/region on plane regions; "plane": the three fixed
+    ones are fix wall/gran xplane/zplane (the same contact law, without the region machinery, which costs
+    LAMMPS ~16 % of its step here), the moving top one stays a moving region."""
     f = float
     kn, kt, mu = p["kn"], p["kt"], p["friction"]
     dt, steps, every = p["dt"], int(f(p["steps"])), int(f(p["record_every"]))
@@ -111,7 +125,7 @@ def lammps_input(p, skin, with_forces, forces_file):
     lines = [
         "# Written by bench/lammps_compare.py from the files of bench_compare --write-lammps.",
         "# Rigid clumps of overlapping spheres (one molecule per grain), Hookean contacts with shear history,",
-        "# four frictional plane walls (regions), the top one moving down at constant speed.",
+        "# four frictional plane walls, the top one (a region) moving down at constant speed.",
         "units           si",
         "atom_style      sphere",
         "atom_modify     map array",
@@ -130,15 +144,25 @@ def lammps_input(p, skin, with_forces, forces_file):
         "timestep        %s" % dt,
         "# mass, centre of mass and inertia of each grain from the solid polyhedron (overlapping spheres would be wrong)",
         "fix             bodies all rigid/small molecule infile bodies.rigid",
-        "# walls: planes whose normal points into the sample; the top one moves by -v t",
+        "# walls: the top one is a plane region whose normal points into the sample, moved by -v t",
         "variable        top_shift equal -%s*elapsed*%s" % (p["top_speed"], dt),
-        "region          xlo plane %s 0 0  1 0 0 side in units box" % p["wall_xlo"],
-        "region          xhi plane %s 0 0 -1 0 0 side in units box" % p["wall_xhi"],
-        "region          zlo plane 0 0 %s 0 0  1 side in units box" % p["wall_zlo"],
         "region          zhi plane 0 0 %s 0 0 -1 side in units box move NULL NULL v_top_shift" % p["wall_zhi"],
     ]
-    for w in ("xlo", "xhi", "zlo", "zhi"):
-        lines.append("fix             wall_%s all wall/gran/region %s region %s%s" % (w, wall_law, w, contacts))
+    if walls == "region":
+        lines += [
+            "region          xlo plane %s 0 0  1 0 0 side in units box" % p["wall_xlo"],
+            "region          xhi plane %s 0 0 -1 0 0 side in units box" % p["wall_xhi"],
+            "region          zlo plane 0 0 %s 0 0  1 side in units box" % p["wall_zlo"],
+        ]
+        for w in ("xlo", "xhi", "zlo"):
+            lines.append("fix             wall_%s all wall/gran/region %s region %s%s" % (w, wall_law, w, contacts))
+    else:
+        lines += [
+            "fix             wall_xlo all wall/gran %s xplane %s NULL%s" % (wall_law, p["wall_xlo"], contacts),
+            "fix             wall_xhi all wall/gran %s xplane NULL %s%s" % (wall_law, p["wall_xhi"], contacts),
+            "fix             wall_zlo all wall/gran %s zplane %s NULL%s" % (wall_law, p["wall_zlo"], contacts),
+        ]
+    lines.append("fix             wall_zhi all wall/gran/region %s region zhi%s" % (wall_law, contacts))
     if with_forces:
         # Column 2..4 of the per-atom contact array: the wall's force on the sphere (x, y, z).
         lines += [
@@ -217,6 +241,8 @@ def main():
     ap.add_argument("--tolerance", type=float, default=0.01, help="max relative difference of the top-wall force")
     ap.add_argument("--threshold", type=float, default=0.1, help="records tested: |F| >= threshold x max |F|")
     ap.add_argument("--no-mpi", action="store_true", help="skip the 2-rank LAMMPS and 2-thread granulab runs")
+    ap.add_argument("--lmp-walls", choices=["plane", "region"], default="plane",
+                    help="LAMMPS fixed walls as fix wall/gran planes (faster) or as wall/gran/region regions")
     args = ap.parse_args()
 
     bench = os.path.join(ROOT, os.environ.get("BUILD", "build"), "bench", "bench_compare")
@@ -245,7 +271,10 @@ def main():
             cmd += ["--write-lammps", lmp_dir]
         log = os.path.join(out, "granulab_t%d.log" % threads)
         print("running:", " ".join(cmd))
-        _, rss = run_measured(cmd, log, env=dict(os.environ, OMP_NUM_THREADS=str(threads)))
+        # Passive OpenMP waiting, as the granulab CLI sets it (spinning threads are slow on shared cores).
+        env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+        env.setdefault("OMP_WAIT_POLICY", "passive")
+        _, rss = run_measured(cmd, log, env=env)
         r = parse_result(log)
         rows.append(("granulab", threads, float(r["sphere_steps_per_s"]), rss))
         ours_forces[threads] = read_ours(forces)
@@ -254,9 +283,9 @@ def main():
 
     # 2. LAMMPS input scripts.
     with open(os.path.join(lmp_dir, "in.forces"), "w") as f:
-        f.write(lammps_input(params, skin, True, "lammps_forces.txt"))
+        f.write(lammps_input(params, skin, True, "lammps_forces.txt", args.lmp_walls))
     with open(os.path.join(lmp_dir, "in.timing"), "w") as f:
-        f.write(lammps_input(params, skin, False, None))
+        f.write(lammps_input(params, skin, False, None, args.lmp_walls))
 
     # 3. LAMMPS runs (in lmp_dir: the input refers to its files by name).
     env = dict(os.environ, OMP_NUM_THREADS="1")

@@ -39,7 +39,9 @@ std::vector<LocalStrain> local_strains(const std::vector<Vec3>& ref, const std::
     Vec3 inv = Vec3::Zero();
     for (int k = 0; k < 3; ++k)
       if (s[k] > 1e-9 * s[0]) inv[k] = 1 / s[k];
-    const Mat3 f = w[i] * svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+    const Mat3 v_plus = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+    // Directions no neighbour spans (a planar neighbourhood) are taken as undeformed, not collapsed.
+    const Mat3 f = w[i] * v_plus + (Mat3::Identity() - v[i] * v_plus);
     const Mat3 e = 0.5 * (f.transpose() * f - Mat3::Identity());
     const Vec3 principal = Eigen::SelfAdjointEigenSolver<Mat3>(e).eigenvalues();  // ascending
     const Mat3 dev = e - e.trace() / 3 * Mat3::Identity();

@@ -21,7 +21,8 @@ struct LocalStrain {
 
 /// The deformation gradient F that best maps each grain's reference neighbour vectors onto the current
 /// ones (least squares, as in Falk & Langer 1998), and the invariants of E = (F^T F - I)/2.
-/// Grains with fewer than three non-coplanar neighbours get the minimum-norm fit.
+/// Directions that a grain's neighbours do not span (a planar or linear neighbourhood) are taken as
+/// undeformed.
 std::vector<LocalStrain> local_strains(const std::vector<Vec3>& reference, const std::vector<Vec3>& current,
                                        const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
 

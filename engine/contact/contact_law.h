@@ -45,16 +45,10 @@ inline ContactForce contact_force(const ContactLaw& law, double c_n, const Vec3&
 
   // Keep the history in the current tangent plane with its length unchanged (the plane rotates
   // with the contact; the spring must neither grow nor shrink from that rotation).
-  // With s = (xi.n)^2 / |xi|^2 the rescale factor is 1/sqrt(1 - s); for the tiny rotations of one
-  // time step its series 1 + s/2 + 3s^2/8 is exact to rounding (s^3 < 1e-18) and saves a sqrt.
   const double xi_len2 = xi.squaredNorm();
-  if (xi_len2 > 0) {
-    const double along = xi.dot(n);
-    const double s = along * along / xi_len2;
-    xi -= along * n;
-    if (s < 1e-6) xi *= 1 + s * (0.5 + 0.375 * s);
-    else if (s < 1) xi /= std::sqrt(1 - s);
-  }
+  xi -= xi.dot(n) * n;
+  const double proj2 = xi.squaredNorm();
+  if (proj2 > 0) xi *= std::sqrt(xi_len2 / proj2);
   xi += v_t * dt;
 
   Vec3 ft = -law.tangential_stiffness * xi - c_t * v_t;
@@ -63,7 +57,7 @@ inline ContactForce contact_force(const ContactLaw& law, double c_n, const Vec3&
   bool sliding = false;
   if (ft2 > cap * cap) {
     sliding = true;
-    if (ft2 > 0) ft *= cap / std::sqrt(ft2);
+    ft *= cap / std::sqrt(ft2);  // ft2 > cap^2 >= 0
     xi = law.tangential_stiffness > 0 ? Vec3(-(ft + c_t * v_t) / law.tangential_stiffness) : Vec3::Zero();
   }
   return {fn * n + ft, fn, sliding};

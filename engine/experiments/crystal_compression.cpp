@@ -62,6 +62,7 @@ CrystalCompression::CrystalCompression(const CrystalParams& params)
       membrane_(params.confining_pressure, grain_.diameter() / 2) {
   if (params.grain.shape != Shape::rhombic_dodecahedron)
     throw std::invalid_argument("crystal_compression needs rhombic_dodecahedron grains");
+  if (!(prestrain_for(params) < 0.1)) throw std::invalid_argument("confining pressure too high for the modulus");
   if (lattice_.sites.size() < 2) throw std::invalid_argument("the crystal has fewer than two grains left");
   const double density = params.material.density * params.mass_scaling;
   for (const LatticeSite& s : lattice_.sites) {
@@ -88,6 +89,13 @@ CrystalCompression::CrystalCompression(const CrystalParams& params)
 void CrystalCompression::update_membrane() {
   membrane_.apply(world_.bodies().position, world_.sphere_positions(), grain_.sphere_count(), grain_.radius(),
                   world_.external_force(), world_.external_torque());
+}
+
+void CrystalCompression::check_finite() const {
+  const double ke = world_.kinetic_energy();
+  if (!std::isfinite(ke) || !std::isfinite(wall_stress(top_)) || !std::isfinite(wall_stress(bottom_)))
+    throw std::runtime_error("the simulation became unstable (non-finite energy or wall force) at step " +
+                             std::to_string(world_.steps()) + "; try a smaller run.time_step_factor");
 }
 
 double CrystalCompression::wall_stress(std::size_t w) const {
@@ -123,10 +131,13 @@ ConfinementReport CrystalCompression::confine(const ProgressFn& progress) {
       Wall& wall = world_.walls()[w];
       const double error = (p0 - wall_stress(w)) * cross_section_;  // N; > 0: push in
       const double stiffness = kn * double(std::max<std::size_t>(1, wall.contacts));
-      wall.velocity = wall.normal * (error / (stiffness * servo_time));
+      // At most a tenth of the skin per step, so a wall far from contact cannot jump into the spheres.
+      const double max_speed = 0.1 * world_.settings().skin / world_.settings().time_step;
+      wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);
     }
     world_.step();
     if ((world_.steps() - start) % params_.membrane_interval != 0) continue;
+    check_finite();
     update_membrane();
     const double ke = world_.kinetic_energy(), ee = world_.contact_stats().elastic_energy;
     const bool walls_ok = std::abs(wall_stress(top_) - p0) <= params_.equilibrium_tolerance * p0 &&
@@ -195,7 +206,7 @@ CrystalSnapshot CrystalCompression::snapshot(double strain) const {
   return s;
 }
 
-CrystalResult CrystalCompression::run(const ProgressFn& progress) {
+CrystalResult CrystalCompression::run(const ProgressFn& progress, const CrystalObserver& observer) {
   const auto start = std::chrono::steady_clock::now();
   CrystalResult r;
   // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
@@ -225,25 +236,33 @@ CrystalResult CrystalCompression::run(const ProgressFn& progress) {
   std::size_t next_snapshot = 0, next_row = 0;
   auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
   auto take_due_snapshots = [&] {
-    while (next_snapshot < targets.size() && strain_now() >= targets[next_snapshot] - 1e-12)
+    while (next_snapshot < targets.size() && strain_now() >= targets[next_snapshot] - 1e-12) {
       r.snapshots.push_back(snapshot(targets[next_snapshot++]));
+      if (observer.snapshot) observer.snapshot(r.snapshots.back());
+    }
   };
-  r.curve.push_back(measure(0));
+  auto record = [&](double strain) {
+    r.curve.push_back(measure(strain));
+    if (observer.row) observer.row(r.curve.back());
+  };
+  record(0);
   take_due_snapshots();
   const std::uint64_t first = world_.steps();
-  bottom.velocity.setZero();
   while (next_row < record_at.size()) {
     // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
     // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
     const double t = (world_.steps() - first) * dt;
     top.velocity = top.normal * (speed * std::min(1.0, t / ramp_time));
     world_.step();
-    if ((world_.steps() - first) % params_.membrane_interval == 0) update_membrane();
+    if ((world_.steps() - first) % params_.membrane_interval == 0) {
+      check_finite();
+      update_membrane();
+    }
     take_due_snapshots();
     const double strain = strain_now();
-    if (strain < record_at[next_row] - 1e-12 * params_.max_strain) continue;
+    if (!(strain >= record_at[next_row] - 1e-12 * params_.max_strain)) continue;
     while (next_row < record_at.size() && strain >= record_at[next_row] - 1e-12 * params_.max_strain) ++next_row;
-    r.curve.push_back(measure(strain));
+    record(strain);
     if (progress && !progress(0.1 + 0.9 * std::min(1.0, strain / params_.max_strain))) throw Cancelled();
   }
   top.velocity.setZero();

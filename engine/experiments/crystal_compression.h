@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -86,6 +87,12 @@ struct CrystalResult {
   StageTimes stage_times;
 };
 
+/// Optional callbacks that see results as they are made, so a long run loses nothing if it is killed.
+struct CrystalObserver {
+  std::function<void(const CrystalRow&)> row;            ///< each curve row as it is recorded
+  std::function<void(const CrystalSnapshot&)> snapshot;  ///< each snapshot as it is taken
+};
+
 class CrystalCompression {
  public:
   explicit CrystalCompression(const CrystalParams& params);
@@ -97,7 +104,7 @@ class CrystalCompression {
   /// Phase 2 alone (normally called by run()).
   ConfinementReport confine(const ProgressFn& progress = nullptr);
   /// Confines, compresses, records; `progress` may stop the run (throws Cancelled).
-  CrystalResult run(const ProgressFn& progress = nullptr);
+  CrystalResult run(const ProgressFn& progress = nullptr, const CrystalObserver& observer = {});
 
   /// Mean lateral stresses (sigma_xx, sigma_yy) carried by the packing: the contact forces' sum of
   /// f_x l_x (l = branch vector between grain centres) over the bag's projected area on the x faces
@@ -108,6 +115,8 @@ class CrystalCompression {
 
  private:
   void update_membrane();
+  /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
+  void check_finite() const;
   double wall_stress(std::size_t wall) const;
   CrystalRow measure(double strain) const;
   CrystalSnapshot snapshot(double strain) const;

@@ -53,7 +53,8 @@ CrystalLattice build_crystal(const CrystalGeometry& g) {
       }
     }
   }
-  // Centre the sample on the origin (box centre).
+  // Centre the bounding box of the grain centres on the origin (along z it sits pz/12 off the box's
+  // own centre when there are three layers or more, because of the ABC stacking).
   Vec3 lo = c.sites.front().position, hi = lo;
   for (const LatticeSite& s : c.sites) lo = lo.cwiseMin(s.position), hi = hi.cwiseMax(s.position);
   const Vec3 centre = (lo + hi) / 2;

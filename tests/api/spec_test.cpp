@@ -240,7 +240,15 @@ const std::vector<ErrorCase> kErrorCases = {
      "out_of_range", "crystal.knockout", "[0, 863]"},
     {"SnapshotStrainTooLarge",
      R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0.0, 0.9]}})", "out_of_range",
-     "output.snapshot_strains", "[0, 0.5]"},
+     "output.snapshot_strains", "[0, 0.1]"},
+    {"SnapshotBeyondMaxStrain",
+     R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02}, "output": {"snapshot_strains": [0.04]}})",
+     "out_of_range", "output.snapshot_strains", "[0, 0.02]"},
+    {"PrestrainTooLarge", R"({"experiment": "crystal_compression", "material": {"youngs_modulus": 1e6}})",
+     "out_of_range", "loading.confining_pressure", "0.02"},
+    {"CrystalTooLarge",
+     R"({"experiment": "crystal_compression", "crystal": {"grains_x": 100, "rows_z": 400, "layers_y": 100}})",
+     "out_of_range", "crystal", "50,000,000"},
 
     // Invalid choices.
     {"RhombicDodecahedronInTwoCube", R"({"grain": {"shape": "rhombic_dodecahedron"}})", "invalid_value",
@@ -398,6 +406,18 @@ TEST(Results, SummaryJsonZeroWallTimeGivesZeroRate) {
   const json s = summary_json(r, json::object());
   EXPECT_EQ(s.at("sphere_steps_per_second").get<double>(), 0.0);
   EXPECT_FALSE(s.dump().empty());  // no inf/NaN that would make the JSON invalid
+}
+
+}  // namespace
+}  // namespace granulab::api
+
+namespace granulab::api {
+namespace {
+
+// Without explicit snapshot strains, the paper's list is cut at max_strain instead of failing.
+TEST(SpecDefaults, DefaultSnapshotsStopAtMaxStrain) {
+  const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02}})");
+  EXPECT_EQ(spec.crystal.snapshot_strains, (std::vector<double>{0.0, 0.01, 0.02}));
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ YieldRun compress(CrystalParams p) {
   CrystalCompression experiment(p);
   const CrystalResult r = experiment.run();
   YieldRun out;
-  std::tie(out.peak_strain, out.peak) = api::first_yield_peak(r.curve);
+  std::tie(out.peak_strain, out.peak) = api::first_yield_peak(r.curve, p.confining_pressure);
   for (const CrystalRow& row : r.curve) {
     if (row.deviator < out.peak / 2) continue;
     const double mean = (row.stress_top + row.stress_bottom) / 2;
