@@ -2,6 +2,7 @@
 // (no server) and writes DIR/summary.json, DIR/curve.csv and DIR/snapshots/. Progress and an ETA go
 // to stderr; failures exit non-zero with a message that names the bad field.
 #include <omp.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -81,6 +82,13 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+// Peak resident memory of this process so far (bytes): the run's memory footprint.
+long peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss * 1024L;  // KiB on Linux
+}
+
 void run_two_cube(const api::Spec& spec, const fs::path& out, const ProgressFn& progress) {
   const TwoCubeParams& p = spec.two_cube;
   spdlog::info("two_cube_sliding: N_e={} kappa={} f={} eps0={} rate_number={} threads={}", p.grain.edge_spheres,
@@ -88,7 +96,9 @@ void run_two_cube(const api::Spec& spec, const fs::path& out, const ProgressFn& 
   TwoCubeSliding experiment(p);
   const TwoCubeResult result = experiment.run(progress);
   write_file(out / "curve.csv", api::curve_csv(result));
-  write_file(out / "summary.json", api::summary_json(result, spec.normalized).dump(2) + "\n");
+  nlohmann::json summary = api::summary_json(result, spec.normalized);
+  summary["peak_rss_bytes"] = peak_rss_bytes();
+  write_file(out / "summary.json", summary.dump(2) + "\n");
   spdlog::info("{} steps in {:.2f} s ({:.3g} sphere-steps/s); curve: {}", result.steps, result.wall_seconds,
                result.spheres * double(result.steps) / result.wall_seconds, (out / "curve.csv").string());
 }
@@ -124,7 +134,8 @@ void run_crystal(const api::Spec& spec, const fs::path& out, const ProgressFn& p
   if (!result.confinement.converged)
     spdlog::warn("confinement stopped after {} steps without reaching equilibrium", result.confinement.steps);
   curve.close();
-  const nlohmann::json summary = api::summary_json(result, spec.normalized);
+  nlohmann::json summary = api::summary_json(result, spec.normalized);
+  summary["peak_rss_bytes"] = peak_rss_bytes();
   write_file(out / "summary.json", summary.dump(2) + "\n");
   spdlog::info("{} steps in {:.1f} s ({:.4f} s/step); first yield: deviator {:.2f} p0 at strain {:.2e}; curve: {}",
                result.steps, result.wall_seconds, result.wall_seconds / result.steps,
