@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <omp.h>
 
 namespace granulab {
 
@@ -19,60 +20,86 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   lo.array() -= radius;
   hi.array() += radius;
 
+  // The two faces normal to one axis share a map over the same plane (one scan gives both outermost
+  // spheres); the x pair and the y pair run on separate threads into their own buffers.
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(2, omp_get_max_threads()))
+  for (int axis = 0; axis < 2; ++axis) map_axis(axis, lo, hi, body_positions, spheres, per_body, radius, scratch_[axis]);
+
+  std::vector<bool> touched(body_positions.size(), false);
+  for (int axis = 0; axis < 2; ++axis) {
+    const AxisScratch& a = scratch_[axis];
+    for (std::size_t b = 0; b < body_positions.size(); ++b) {
+      force[b] += a.force[b];
+      torque[b] += a.torque[b];
+      if (a.touched[b]) touched[b] = true;
+    }
+    for (int side = 0; side < 2; ++side) {
+      stats_.area[2 * axis + side] = a.area[side];
+      stats_.load_centre[2 * axis + side] = a.load_centre[side];
+    }
+  }
+  stats_.grains = std::size_t(std::count(touched.begin(), touched.end(), true));
+}
+
+void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
+                        const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const {
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   const double cell_area = cell_ * cell_;
-  std::vector<bool> touched(body_positions.size(), false);
+  const int u = axis == 0 ? 1 : 0, v = 2;  // the map's in-plane axes (z is always one)
+  const int nu = int(std::ceil((hi[u] - lo[u]) / cell_)), nv = int(std::ceil((hi[v] - lo[v]) / cell_));
+  const std::size_t cells = std::size_t(nu) * nv;
+  for (int side = 0; side < 2; ++side) {
+    a.height[side].assign(cells, -std::numeric_limits<double>::infinity());
+    a.owner[side].assign(cells, kNone);
+  }
+  a.force.assign(body_positions.size(), Vec3::Zero());
+  a.torque.assign(body_positions.size(), Vec3::Zero());
+  a.touched.assign(body_positions.size(), false);
 
-  for (int face = 0; face < 4; ++face) {
-    const int axis = face < 2 ? 0 : 1;             // x faces, then y faces
-    const double sign = face % 2 == 0 ? 1.0 : -1.0;  // outward direction along axis
-    const int u = axis == 0 ? 1 : 0, v = 2;         // the map's in-plane axes (z is always one)
-    const int nu = int(std::ceil((hi[u] - lo[u]) / cell_)), nv = int(std::ceil((hi[v] - lo[v]) / cell_));
-    height_.assign(std::size_t(nu) * nv, -std::numeric_limits<double>::infinity());
-    owner_.assign(std::size_t(nu) * nv, kNone);
-
-    // Outermost sphere surface per cell: every cell a sphere's disc covers, at the sphere's cap height.
-    const int reach = int(std::ceil(radius / cell_));
-    for (std::size_t s = 0; s < spheres.size(); ++s) {
-      const Vec3& c = spheres[s];
-      const double top = sign * c[axis];
-      const int iu0 = int((c[u] - lo[u]) / cell_), iv0 = int((c[v] - lo[v]) / cell_);
-      for (int iu = std::max(0, iu0 - reach); iu <= std::min(nu - 1, iu0 + reach); ++iu) {
-        const double du = lo[u] + (iu + 0.5) * cell_ - c[u];
-        for (int iv = std::max(0, iv0 - reach); iv <= std::min(nv - 1, iv0 + reach); ++iv) {
-          const double dv = lo[v] + (iv + 0.5) * cell_ - c[v];
-          const double r2 = radius * radius - du * du - dv * dv;
-          if (r2 < 0) continue;
-          const double h = top + std::sqrt(r2);
-          const std::size_t k = std::size_t(iu) * nv + iv;
-          if (h > height_[k]) height_[k] = h, owner_[k] = std::uint32_t(s);
-        }
+  // Outermost sphere surface per cell on each side (side 0: +axis, side 1: -axis): every cell a
+  // sphere's disc covers, at the sphere's cap height along the outward direction.
+  const int reach = int(std::ceil(radius / cell_));
+  for (std::size_t s = 0; s < spheres.size(); ++s) {
+    const Vec3& c = spheres[s];
+    const int iu0 = int((c[u] - lo[u]) / cell_), iv0 = int((c[v] - lo[v]) / cell_);
+    for (int iu = std::max(0, iu0 - reach); iu <= std::min(nu - 1, iu0 + reach); ++iu) {
+      const double du = lo[u] + (iu + 0.5) * cell_ - c[u];
+      for (int iv = std::max(0, iv0 - reach); iv <= std::min(nv - 1, iv0 + reach); ++iv) {
+        const double dv = lo[v] + (iv + 0.5) * cell_ - c[v];
+        const double r2 = radius * radius - du * du - dv * dv;
+        if (r2 < 0) continue;
+        const double cap = std::sqrt(r2);
+        const std::size_t k = std::size_t(iu) * nv + iv;
+        if (c[axis] + cap > a.height[0][k]) a.height[0][k] = c[axis] + cap, a.owner[0][k] = std::uint32_t(s);
+        if (-c[axis] + cap > a.height[1][k]) a.height[1][k] = -c[axis] + cap, a.owner[1][k] = std::uint32_t(s);
       }
     }
+  }
 
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? 1.0 : -1.0;
     double area = 0, weighted = 0;
     for (int iu = 0; iu < nu; ++iu) {
       for (int iv = 0; iv < nv; ++iv) {
         const std::size_t k = std::size_t(iu) * nv + iv;
-        if (owner_[k] == kNone) continue;
+        if (a.owner[side][k] == kNone) continue;
         Vec3 f = Vec3::Zero();
         f[axis] = -sign * pressure_ * cell_area;
         Vec3 point;
-        point[axis] = sign * height_[k];
+        point[axis] = sign * a.height[side][k];
         point[u] = lo[u] + (iu + 0.5) * cell_;
         point[v] = lo[v] + (iv + 0.5) * cell_;
-        const std::size_t b = owner_[k] / per_body;
-        force[b] += f;
-        torque[b] += (point - body_positions[b]).cross(f);
-        touched[b] = true;
+        const std::size_t b = a.owner[side][k] / per_body;
+        a.force[b] += f;
+        a.torque[b] += (point - body_positions[b]).cross(f);
+        a.touched[b] = true;
         area += cell_area;
         weighted += cell_area * body_positions[b][axis];
       }
     }
-    stats_.area[face] = area;
-    stats_.load_centre[face] = area > 0 ? weighted / area : 0;
+    a.area[side] = area;
+    a.load_centre[side] = area > 0 ? weighted / area : 0;
   }
-  stats_.grains = std::size_t(std::count(touched.begin(), touched.end(), true));
 }
 
 }  // namespace granulab

@@ -9,6 +9,7 @@
 // local slope measured on the faceted, jagged ends of the sample pushed the whole sample into one wall.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "engine/core/types.h"
@@ -38,11 +39,20 @@ class Membrane {
   const MembraneStats& stats() const { return stats_; }
 
  private:
+  // Per axis (x, y): the height maps of its two faces and what they push, reused between calls.
+  struct AxisScratch {
+    std::vector<double> height[2];
+    std::vector<std::uint32_t> owner[2];
+    std::vector<Vec3> force, torque;
+    std::vector<bool> touched;
+    double area[2] = {0, 0}, load_centre[2] = {0, 0};
+  };
+  void map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
+                const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const;
+
   double pressure_, cell_;
   MembraneStats stats_;
-  // Scratch reused between calls.
-  std::vector<double> height_;
-  std::vector<std::uint32_t> owner_;
+  AxisScratch scratch_[2];
 };
 
 }  // namespace granulab
