@@ -260,11 +260,15 @@ CrystalResult CrystalCompression::run(const ProgressFn& progress, const CrystalO
     }
     take_due_snapshots();
     const double strain = strain_now();
+    // Every 100 steps (< 1 s even at full size): a cancelled run stops promptly.
+    if ((world_.steps() - first) % 100 == 0 && progress &&
+        !progress(0.1 + 0.9 * std::min(1.0, std::max(0.0, strain) / params_.max_strain)))
+      throw Cancelled();
     if (!(strain >= record_at[next_row] - 1e-12 * params_.max_strain)) continue;
     while (next_row < record_at.size() && strain >= record_at[next_row] - 1e-12 * params_.max_strain) ++next_row;
     record(strain);
-    if (progress && !progress(0.1 + 0.9 * std::min(1.0, strain / params_.max_strain))) throw Cancelled();
   }
+  if (progress) progress(1.0);
   top.velocity.setZero();
 
   r.prestrain = prestrain_for(params_);
