@@ -17,6 +17,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "api/passive_openmp.h"
 #include "api/results.h"
 #include "api/snapshot_files.h"
 #include "api/spec.h"
@@ -213,13 +214,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // OpenMP threads that spin while waiting turn a shared core into a 6x slowdown (measured: a small
-  // crystal took 14 s instead of 2.2 s next to another job). The runtime reads the policy once at load,
-  // so unless the user chose one, set it and start again.
-  if (!std::getenv("OMP_WAIT_POLICY")) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);  // returns only on failure: then carry on with the default policy
-  }
+  api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulab"));
   spdlog::set_pattern("[%H:%M:%S] [%^%l%$] %v");
   if (argc < 2) {

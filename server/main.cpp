@@ -1,0 +1,110 @@
+// granulabd: the lab server. Keeps jobs and results in an SQLite file, runs them on a bounded pool,
+// serves the HTTP API of CONTRACT.md. SIGTERM or SIGINT: stop accepting requests, interrupt running
+// jobs (they stay `running` in the store and are re-queued at the next start), exit cleanly.
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <thread>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "api/passive_openmp.h"
+#include "server/routes.h"
+#include "server/store/job_store.h"
+#include "server/worker_pool.h"
+
+using namespace granulab::server;
+
+namespace {
+
+const char* kUsage =
+    "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T]\n"
+    "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n";
+
+int parse_int(const std::string& flag, const std::string& text, int lo, int hi) {
+  std::size_t used = 0;
+  int v = 0;
+  try {
+    v = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || v < lo || v > hi)
+    throw std::invalid_argument("'" + flag + "' must be an integer in [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + "], got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  granulab::api::reexec_with_passive_openmp(argv);
+  spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
+  spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
+  std::string host = "127.0.0.1", db = "var/granulab.db";
+  int port = 8080, workers = 1, threads = 0;
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--help" || a == "-h") {
+        std::cout << kUsage;
+        return 0;
+      }
+      if (i + 1 >= argc) throw std::invalid_argument("'" + a + "' needs a value\n" + kUsage);
+      const std::string v = argv[++i];
+      if (a == "--host") host = v;
+      else if (a == "--port") port = parse_int(a, v, 0, 65535);
+      else if (a == "--db") db = v;
+      else if (a == "--workers") workers = parse_int(a, v, 1, 256);
+      else if (a == "--threads") threads = parse_int(a, v, 1, 256);
+      else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
+    }
+    // Workers x engine threads never exceed the cores.
+    if (threads == 0) threads = std::max(1, cores / workers);
+    if (workers * threads > cores)
+      spdlog::warn("{} workers x {} threads exceed the {} cores", workers, threads, cores);
+
+    // Signals go to one waiting thread, not to whichever thread happens to run.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    if (db != ":memory:" && std::filesystem::path(db).has_parent_path())
+      std::filesystem::create_directories(std::filesystem::path(db).parent_path());
+    JobStore store(db);
+    const std::size_t requeued = store.requeue_running();
+    if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
+    WorkerPool pool(store, workers, threads);
+    HttpServer http(store, pool);
+    const int bound = http.bind(host, port);
+    if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port));
+    pool.start();
+    std::thread signal_waiter([&] {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      spdlog::info("signal {}: stopping", sig);
+      http.stop();
+    });
+    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s))", host, bound, db, workers,
+                 threads);
+    http.serve();
+    pool.stop();
+    if (signal_waiter.joinable()) {
+      pthread_kill(signal_waiter.native_handle(), SIGTERM);  // wakes sigwait if we stopped for another reason
+      signal_waiter.join();
+    }
+    spdlog::info("granulabd stopped");
+    return 0;
+  } catch (const std::invalid_argument& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,205 @@
+#include "server/routes.h"
+
+
+#include <atomic>
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "api/results.h"
+#include "api/runner.h"
+#include "api/spec.h"
+
+// After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
+#include <httplib.h>
+
+namespace granulab::server {
+
+namespace {
+
+using nlohmann::json;
+
+void reply(httplib::Response& res, int status, const json& body) {
+  res.status = status;
+  res.set_content(body.dump() + "\n", "application/json");
+}
+
+void error(httplib::Response& res, int status, const std::string& code, const std::string& message,
+           const std::string& field = "") {
+  reply(res, status, {{"error", {{"code", code}, {"message", message}, {"field", field}}}});
+}
+
+json job_json(const JobRecord& j, bool full) {
+  json out = {{"id", j.id},
+              {"status", j.status},
+              {"label", j.label},
+              {"experiment", j.experiment},
+              {"progress", j.progress},
+              {"created_ms", j.created_ms},
+              {"started_ms", j.started_ms},
+              {"finished_ms", j.finished_ms},
+              {"priority", j.priority}};
+  if (j.eta_seconds >= 0 && j.status == "running") out["eta_seconds"] = j.eta_seconds;
+  if (!j.error.empty()) out["error"] = j.error;
+  if (!j.owner.empty()) out["owner"] = j.owner;
+  if (full) {
+    out["spec"] = json::parse(j.spec_json);
+    out["spec_hash"] = j.spec_hash;
+    out["engine_version"] = j.engine_version;
+    if (!j.summary_json.empty()) out["summary"] = json::parse(j.summary_json);
+  }
+  return out;
+}
+
+// Query integers with a range; a bad value is a 400 that names the parameter.
+bool query_int(const httplib::Request& req, httplib::Response& res, const char* name, long lo, long hi, long& value) {
+  if (!req.has_param(name)) return true;
+  const std::string text = req.get_param_value(name);
+  try {
+    std::size_t used = 0;
+    value = std::stol(text, &used);
+    if (used == text.size() && value >= lo && value <= hi) return true;
+  } catch (const std::exception&) {
+  }
+  error(res, 400, "out_of_range",
+        std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+            "], got '" + text + "'",
+        name);
+  return false;
+}
+
+}  // namespace
+
+HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
+    : store_(store), pool_(pool), options_(options), http_(std::make_unique<httplib::Server>()) {
+  http_->set_payload_max_length(options_.max_body_bytes);
+  const int n = options_.handler_threads;
+  http_->new_task_queue = [n] { return new httplib::ThreadPool(std::size_t(n)); };
+  // Every response carries a request id; one access-log line per request.
+  http_->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+    static std::atomic<std::uint64_t> next{1};
+    res.set_header("X-Request-Id", std::to_string(next++));
+  });
+  http_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
+    spdlog::info("{} {} {} -> {} ({} bytes) id={}", req.remote_addr, req.method, req.path, res.status, res.body.size(),
+                 res.get_header_value("X-Request-Id"));
+  });
+  http_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty()) return;
+    if (res.status == 413) error(res, 413, "too_large", "request body too large");
+    else if (res.status == 404) error(res, 404, "not_found", "no such route");
+    else error(res, res.status, "error", "request failed");
+  });
+  routes();
+}
+
+HttpServer::~HttpServer() { stop(); }
+
+int HttpServer::bind(const std::string& host, int port) {
+  if (port == 0) return http_->bind_to_any_port(host);
+  return http_->bind_to_port(host, port) ? port : -1;
+}
+
+void HttpServer::serve() { http_->listen_after_bind(); }
+
+void HttpServer::stop() {
+  if (http_->is_running()) http_->stop();
+}
+
+void HttpServer::routes() {
+  http_->Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
+    reply(res, 200,
+          {{"status", "ok"},
+           {"engine_version", api::engine_version()},
+           {"queued", store_.count("queued")},
+           {"running", store_.count("running")},
+           {"workers", pool_.workers()},
+           {"threads_per_job", pool_.threads_per_job()}});
+  });
+
+  http_->Post("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
+    api::Spec spec;
+    try {
+      spec = api::parse_spec_text(req.body);
+    } catch (const api::SpecError& e) {
+      return error(res, 400, e.code, e.what(), e.field);
+    }
+    const std::string hash = api::spec_hash(spec.normalized);
+    const std::string experiment = spec.normalized["experiment"].get<std::string>();
+    if (req.has_param("reuse") && req.get_param_value("reuse") == "true") {
+      if (const auto id = store_.find_succeeded(hash, api::engine_version()))
+        return reply(res, 200, {{"id", *id}, {"status", "succeeded"}, {"reused", true}});
+    }
+    long priority = 0;
+    if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    const std::int64_t id = store_.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(), "",
+                                          int(priority));
+    pool_.notify();
+    reply(res, 201, {{"id", id}, {"status", "queued"}});
+  });
+
+  http_->Get("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
+    long limit = 50, offset = 0;
+    if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
+    const std::string status = req.has_param("status") ? req.get_param_value("status") : "";
+    if (!status.empty() && status != "queued" && status != "running" && status != "succeeded" && status != "failed" &&
+        status != "cancelled")
+      return error(res, 400, "invalid_value",
+                   "'status' must be one of: queued, running, succeeded, failed, cancelled, got '" + status + "'",
+                   "status");
+    json jobs = json::array();
+    for (const JobRecord& j : store_.list(status, int(limit), int(offset))) jobs.push_back(job_json(j, false));
+    reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
+  });
+
+  http_->Get(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = store_.get(std::stoll(req.matches[1]));
+    if (!job) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
+    reply(res, 200, job_json(*job, true));
+  });
+
+  http_->Post(R"(/v1/jobs/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::int64_t id = std::stoll(req.matches[1]);
+    switch (store_.request_cancel(id)) {
+      case JobStore::CancelResult::cancelled_queued:
+        return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
+      case JobStore::CancelResult::requested_running:
+        return reply(res, 202, {{"id", id}, {"status", "running"}, {"cancel_requested", true}});
+      case JobStore::CancelResult::not_found:
+        return error(res, 404, "not_found", "no job " + std::to_string(id));
+      case JobStore::CancelResult::wrong_state:
+        return error(res, 409, "wrong_state", "job " + std::to_string(id) + " has already finished");
+    }
+  });
+
+  http_->Get(R"(/v1/jobs/(\d+)/curve)", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::int64_t id = std::stoll(req.matches[1]);
+    const auto job = store_.get(id);
+    if (!job) return error(res, 404, "not_found", "no job " + std::to_string(id));
+    if (job->status != "succeeded")
+      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + job->status + ", not succeeded");
+    if (req.has_param("format") && req.get_param_value("format") == "csv") {
+      res.set_content(store_.curve_csv(id).value_or(""), "text/csv");
+      return;
+    }
+    res.set_content(store_.curve_json(id).value_or("{}"), "application/json");
+  });
+
+  http_->Get(R"(/v1/jobs/(\d+)/snapshots)", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::int64_t id = std::stoll(req.matches[1]);
+    if (!store_.get(id)) return error(res, 404, "not_found", "no job " + std::to_string(id));
+    json list = json::array();
+    for (const auto& s : store_.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
+    reply(res, 200, {{"snapshots", list}});
+  });
+
+  http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::int64_t id = std::stoll(req.matches[1]);
+    const auto blob = store_.snapshot(id, std::stoi(req.matches[2]));
+    if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(id));
+    res.set_content(std::string(blob->begin(), blob->end()), "application/json");
+  });
+}
+
+}  // namespace granulab::server

@@ -1,0 +1,314 @@
+// JobStore on SQLite (see job_store.h). Each public method takes the mutex, and each state change runs
+// inside one sqlite::Transaction together with its event, so either all of it lands or none does.
+#include "server/store/job_store.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "server/store/migrations.h"
+#include "server/store/sqlite.h"
+
+namespace granulab::server {
+
+namespace {
+
+using sqlite::Statement;
+using sqlite::Transaction;
+
+std::int64_t now_ms() {
+  using namespace std::chrono;
+  return duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+// Column order of read_job().
+constexpr const char* kJobColumns =
+    "id, status, label, experiment, spec_json, spec_hash, engine_version, owner, error, summary_json, "
+    "priority, progress, eta_seconds, created_ms, started_ms, finished_ms, cancel_requested";
+
+JobRecord read_job(const Statement& st) {
+  JobRecord r;
+  r.id = st.column_int64(0);
+  r.status = st.column_text(1);
+  r.label = st.column_text(2);
+  r.experiment = st.column_text(3);
+  r.spec_json = st.column_text(4);
+  r.spec_hash = st.column_text(5);
+  r.engine_version = st.column_text(6);
+  r.owner = st.column_text(7);
+  r.error = st.column_text(8);
+  r.summary_json = st.column_text(9);
+  r.priority = st.column_int(10);
+  r.progress = st.column_double(11);
+  r.eta_seconds = st.column_double(12);
+  r.created_ms = st.column_int64(13);
+  r.started_ms = st.column_int64(14);
+  r.finished_ms = st.column_int64(15);
+  r.cancel_requested = st.column_int64(16) != 0;
+  return r;
+}
+
+}  // namespace
+
+JobStore::JobStore(const std::string& path) : db_(std::make_unique<sqlite::Database>(path)) { migrate(*db_); }
+
+JobStore::~JobStore() = default;
+
+std::int64_t JobStore::submit(const std::string& spec_json, const std::string& experiment, const std::string& label,
+                              const std::string& spec_hash, const std::string& engine_version,
+                              const std::string& owner, int priority) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement st(*db_,
+               "INSERT INTO jobs (status, label, experiment, spec_json, spec_hash, engine_version, owner, priority, "
+               "created_ms) VALUES ('queued', ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
+  st.bind(1, label).bind(2, experiment).bind(3, spec_json).bind(4, spec_hash).bind(5, engine_version);
+  st.bind(6, owner).bind(7, priority).bind(8, now_ms());
+  st.run();
+  const std::int64_t id = db_->last_insert_rowid();
+  log_event_locked(id, "submitted", experiment + (label.empty() ? "" : " \"" + label + "\"") + ", priority " +
+                                        std::to_string(priority));
+  tx.commit();
+  return id;
+}
+
+std::optional<JobRecord> JobStore::claim_next() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  std::int64_t id = 0;
+  {
+    Statement pick(*db_, "SELECT id FROM jobs WHERE status = 'queued' ORDER BY priority DESC, id ASC LIMIT 1");
+    if (!pick.step()) return std::nullopt;
+    id = pick.column_int64(0);
+  }
+  Statement take(*db_,
+                 "UPDATE jobs SET status = 'running', started_ms = ?2, progress = 0, eta_seconds = -1, "
+                 "cancel_requested = 0 WHERE id = ?1 AND status = 'queued'");
+  take.bind(1, id).bind(2, now_ms()).run();
+  log_event_locked(id, "started", "");
+  auto job = get_locked(id);
+  tx.commit();
+  return job;
+}
+
+void JobStore::set_progress(std::int64_t id, double progress, double eta_seconds) {
+  // NaN would be stored as NULL by SQLite; clamp and normalise before binding.
+  progress = std::isfinite(progress) ? std::clamp(progress, 0.0, 1.0) : 0.0;
+  if (!std::isfinite(eta_seconds) || eta_seconds < 0.0) eta_seconds = -1.0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "UPDATE jobs SET progress = ?2, eta_seconds = ?3 WHERE id = ?1 AND status = 'running'");
+  st.bind(1, id).bind(2, progress).bind(3, eta_seconds).run();  // one statement: its own transaction
+}
+
+bool JobStore::succeed(std::int64_t id, const std::string& summary_json, const std::string& curve_csv,
+                       const std::string& curve_json) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement st(*db_,
+               "UPDATE jobs SET status = 'succeeded', progress = 1, eta_seconds = 0, summary_json = ?2, "
+               "error = '', finished_ms = ?3 WHERE id = ?1 AND status = 'running'");
+  st.bind(1, id).bind(2, summary_json).bind(3, now_ms()).run();
+  if (db_->changes() == 0) return false;
+  Statement curve(*db_, "INSERT OR REPLACE INTO curves (job_id, csv, json) VALUES (?1, ?2, ?3)");
+  curve.bind(1, id).bind(2, curve_csv).bind(3, curve_json).run();
+  log_event_locked(id, "succeeded", "");
+  tx.commit();
+  return true;
+}
+
+bool JobStore::fail(std::int64_t id, const std::string& error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement st(*db_,
+               "UPDATE jobs SET status = 'failed', error = ?2, eta_seconds = -1, finished_ms = ?3 "
+               "WHERE id = ?1 AND status IN ('queued', 'running')");
+  st.bind(1, id).bind(2, error).bind(3, now_ms()).run();
+  if (db_->changes() == 0) return false;
+  log_event_locked(id, "failed", error);
+  tx.commit();
+  return true;
+}
+
+bool JobStore::mark_cancelled(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement st(*db_,
+               "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 "
+               "WHERE id = ?1 AND status IN ('queued', 'running')");
+  st.bind(1, id).bind(2, now_ms()).run();
+  if (db_->changes() == 0) return false;
+  log_event_locked(id, "cancelled", "stopped by its worker");
+  tx.commit();
+  return true;
+}
+
+JobStore::CancelResult JobStore::request_cancel(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  std::string status;
+  {
+    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
+    st.bind(1, id);
+    if (!st.step()) return CancelResult::not_found;
+    status = st.column_text(0);
+  }
+  CancelResult result;
+  if (status == "queued") {
+    Statement st(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
+    st.bind(1, id).bind(2, now_ms()).run();
+    log_event_locked(id, "cancelled", "cancelled while queued");
+    result = CancelResult::cancelled_queued;
+  } else if (status == "running") {
+    Statement st(*db_, "UPDATE jobs SET cancel_requested = 1 WHERE id = ?1");
+    st.bind(1, id).run();
+    log_event_locked(id, "cancel_requested", "");
+    result = CancelResult::requested_running;
+  } else {
+    return CancelResult::wrong_state;
+  }
+  tx.commit();
+  return result;
+}
+
+bool JobStore::cancel_requested(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT cancel_requested FROM jobs WHERE id = ?1");
+  st.bind(1, id);
+  return st.step() && st.column_int64(0) != 0;
+}
+
+std::optional<JobRecord> JobStore::get(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return get_locked(id);
+}
+
+std::optional<JobRecord> JobStore::get_locked(std::int64_t id) {
+  Statement st(*db_, std::string("SELECT ") + kJobColumns + " FROM jobs WHERE id = ?1");
+  st.bind(1, id);
+  if (!st.step()) return std::nullopt;
+  return read_job(st);
+}
+
+std::vector<JobRecord> JobStore::list(const std::string& status_filter, int limit, int offset) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, std::string("SELECT ") + kJobColumns +
+                         " FROM jobs WHERE (?1 = '' OR status = ?1) ORDER BY id DESC LIMIT ?2 OFFSET ?3");
+  st.bind(1, status_filter).bind(2, limit < 0 ? -1 : limit).bind(3, std::max(offset, 0));
+  std::vector<JobRecord> jobs;
+  while (st.step()) jobs.push_back(read_job(st));
+  return jobs;
+}
+
+std::size_t JobStore::count(const std::string& status) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT count(*) FROM jobs WHERE (?1 = '' OR status = ?1)");
+  st.bind(1, status);
+  return st.step() ? static_cast<std::size_t>(st.column_int64(0)) : 0;
+}
+
+std::optional<std::string> JobStore::curve_column(std::int64_t id, const char* column) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, std::string("SELECT ") + column + " FROM curves WHERE job_id = ?1");
+  st.bind(1, id);
+  if (!st.step()) return std::nullopt;
+  return st.column_text(0);
+}
+
+std::optional<std::string> JobStore::curve_csv(std::int64_t id) { return curve_column(id, "csv"); }
+
+std::optional<std::string> JobStore::curve_json(std::int64_t id) { return curve_column(id, "json"); }
+
+void JobStore::add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_,
+               "INSERT INTO snapshots (job_id, idx, strain, data) VALUES (?1, ?2, ?3, ?4) "
+               "ON CONFLICT (job_id, idx) DO UPDATE SET strain = excluded.strain, data = excluded.data");
+  st.bind(1, job_id).bind(2, index).bind(3, strain).bind_blob(4, blob).run();
+}
+
+std::vector<SnapshotInfo> JobStore::snapshots(std::int64_t job_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // length() of a BLOB is read from the record header: the data itself is not loaded.
+  Statement st(*db_, "SELECT idx, strain, length(data) FROM snapshots WHERE job_id = ?1 ORDER BY idx");
+  st.bind(1, job_id);
+  std::vector<SnapshotInfo> out;
+  while (st.step()) {
+    out.push_back({st.column_int(0), st.column_double(1), static_cast<std::size_t>(st.column_int64(2))});
+  }
+  return out;
+}
+
+std::optional<std::vector<std::uint8_t>> JobStore::snapshot(std::int64_t job_id, int index) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT data FROM snapshots WHERE job_id = ?1 AND idx = ?2");
+  st.bind(1, job_id).bind(2, index);
+  if (!st.step()) return std::nullopt;
+  return st.column_blob(0);
+}
+
+std::optional<std::int64_t> JobStore::find_succeeded(const std::string& spec_hash, const std::string& engine_version) {
+  if (spec_hash.empty()) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_,
+               "SELECT id FROM jobs WHERE spec_hash = ?1 AND engine_version = ?2 AND status = 'succeeded' "
+               "ORDER BY id DESC LIMIT 1");
+  st.bind(1, spec_hash).bind(2, engine_version);
+  if (!st.step()) return std::nullopt;
+  return st.column_int64(0);
+}
+
+std::size_t JobStore::requeue_running() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  std::vector<std::int64_t> ids;
+  {
+    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' ORDER BY id");
+    while (st.step()) ids.push_back(st.column_int64(0));
+  }
+  for (const std::int64_t id : ids) {
+    Statement job(*db_,
+                  "UPDATE jobs SET status = 'queued', progress = 0, eta_seconds = -1, started_ms = 0, "
+                  "cancel_requested = 0 WHERE id = ?1");
+    job.bind(1, id).run();
+    // Snapshots of the interrupted run would mix with the rerun's: drop them.
+    Statement snaps(*db_, "DELETE FROM snapshots WHERE job_id = ?1");
+    snaps.bind(1, id).run();
+    log_event_locked(id, "requeued", "was running when the daemon stopped; back in the queue");
+  }
+  if (!ids.empty()) {
+    log_event_locked(0, "requeued", std::to_string(ids.size()) + " interrupted job(s) back in the queue");
+  }
+  tx.commit();
+  return ids.size();
+}
+
+void JobStore::log_event(std::int64_t job_id, const std::string& kind, const std::string& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  log_event_locked(job_id, kind, message);
+}
+
+void JobStore::log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message) {
+  Statement st(*db_, "INSERT INTO events (job_id, at_ms, kind, message) VALUES (?1, ?2, ?3, ?4)");
+  if (job_id == 0) {
+    st.bind_null(1);
+  } else {
+    st.bind(1, job_id);
+  }
+  st.bind(2, now_ms()).bind(3, kind).bind(4, message).run();
+}
+
+std::vector<std::string> JobStore::events(std::int64_t job_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT kind, message FROM events WHERE job_id IS ?1 ORDER BY id");
+  if (job_id == 0) {
+    st.bind_null(1);
+  } else {
+    st.bind(1, job_id);
+  }
+  std::vector<std::string> out;
+  while (st.step()) out.push_back(st.column_text(0) + ": " + st.column_text(1));
+  return out;
+}
+
+}  // namespace granulab::server

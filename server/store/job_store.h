@@ -1,0 +1,134 @@
+// The daemon's durable state: jobs, their results (curve, snapshots) and an event log, in one SQLite
+// file (or ":memory:" for tests). Every state change is one transaction, so a crash or an exception
+// midway leaves each job in exactly one state. One connection serves all threads, guarded by a mutex:
+// the store is never the bottleneck next to experiments that run for minutes.
+//
+// Job life cycle (CONTRACT.md, HTTP API):
+//   queued ──claim_next──▶ running ──succeed──▶ succeeded
+//     │                      ├──fail──────────▶ failed
+//     │                      └──mark_cancelled▶ cancelled   (after request_cancel set cancel_requested)
+//     └──request_cancel──────────────────────▶ cancelled
+//   running ──requeue_running (daemon restart)──▶ queued
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace granulab::server {
+
+namespace sqlite {
+class Database;
+}
+
+struct JobRecord {
+  std::int64_t id = 0;
+  std::string status;  ///< queued, running, succeeded, failed, cancelled
+  std::string label;
+  std::string experiment;
+  std::string spec_json;
+  std::string spec_hash;
+  std::string engine_version;
+  std::string owner;
+  std::string error;         ///< empty unless failed
+  std::string summary_json;  ///< empty unless succeeded
+  int priority = 0;          ///< higher runs first
+  double progress = 0.0;     ///< 0..1
+  double eta_seconds = -1.0; ///< s; negative = unknown
+  std::int64_t created_ms = 0;   ///< ms since the Unix epoch
+  std::int64_t started_ms = 0;   ///< ms since the Unix epoch; 0 = not started
+  std::int64_t finished_ms = 0;  ///< ms since the Unix epoch; 0 = not finished
+  bool cancel_requested = false;
+};
+
+struct SnapshotInfo {
+  int index = 0;
+  double strain = 0.0;     ///< axial strain at which the snapshot was taken (dimensionless)
+  std::size_t bytes = 0;   ///< size of the stored blob
+};
+
+class JobStore {
+ public:
+  enum class CancelResult {
+    cancelled_queued,   ///< was queued: now cancelled
+    requested_running,  ///< is running: cancel_requested set, the worker stops and calls mark_cancelled
+    not_found,
+    wrong_state,        ///< already succeeded, failed or cancelled
+  };
+
+  /// Opens or creates the database at `path` (":memory:" allowed) and brings its schema up to date.
+  /// The parent directory must exist.
+  explicit JobStore(const std::string& path);
+  ~JobStore();
+  JobStore(const JobStore&) = delete;
+  JobStore& operator=(const JobStore&) = delete;
+
+  /// Adds a queued job; returns its id (ids grow with submission order).
+  std::int64_t submit(const std::string& spec_json, const std::string& experiment, const std::string& label,
+                      const std::string& spec_hash, const std::string& engine_version, const std::string& owner,
+                      int priority);
+
+  /// Atomically takes the queued job with the highest priority (oldest first within a priority), marks it
+  /// running with started_ms = now and returns it as it now is; nullopt when the queue is empty.
+  std::optional<JobRecord> claim_next();
+
+  /// Progress of a running job (clamped to 0..1; a non-finite or negative eta stores "unknown").
+  /// Ignored unless the job is running.
+  void set_progress(std::int64_t id, double progress, double eta_seconds);
+
+  /// Finishing transitions. Each returns true if it applied, false if the job does not exist or is not
+  /// in a state it may leave that way: succeed needs running; fail and mark_cancelled accept queued or
+  /// running. A false result changes nothing.
+  bool succeed(std::int64_t id, const std::string& summary_json, const std::string& curve_csv,
+               const std::string& curve_json);
+  bool fail(std::int64_t id, const std::string& error);
+  bool mark_cancelled(std::int64_t id);
+
+  CancelResult request_cancel(std::int64_t id);
+  /// True if a cancel was requested for this running job (false for unknown ids).
+  bool cancel_requested(std::int64_t id);
+
+  std::optional<JobRecord> get(std::int64_t id);
+  /// Newest first. `status_filter` empty = every status; `limit` < 0 = no limit.
+  std::vector<JobRecord> list(const std::string& status_filter, int limit, int offset);
+  /// Jobs in `status` (empty = all jobs).
+  std::size_t count(const std::string& status);
+
+  std::optional<std::string> curve_csv(std::int64_t id);
+  std::optional<std::string> curve_json(std::int64_t id);
+
+  /// Stores snapshot `index` of a job as a BLOB (replacing one already stored under that index).
+  void add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob);
+  /// The job's snapshots, by index (without their data).
+  std::vector<SnapshotInfo> snapshots(std::int64_t job_id);
+  std::optional<std::vector<std::uint8_t>> snapshot(std::int64_t job_id, int index);
+
+  /// The newest succeeded job with this spec hash and engine version (for ?reuse=true); an empty hash
+  /// never matches.
+  std::optional<std::int64_t> find_succeeded(const std::string& spec_hash, const std::string& engine_version);
+
+  /// Daemon start-up: every job left running by a previous process goes back to the queue (progress 0,
+  /// started_ms 0, cancel_requested cleared, its partial snapshots dropped) with a "requeued" event.
+  /// Returns how many. Call before any worker starts.
+  std::size_t requeue_running();
+
+  /// Appends to the event log; job_id 0 = an event about the daemon, not one job (an unknown job id
+  /// throws: the foreign key).
+  void log_event(std::int64_t job_id, const std::string& kind, const std::string& message);
+  /// The job's events, oldest first, each as "kind: message" (job_id 0 = the daemon's events).
+  std::vector<std::string> events(std::int64_t job_id);
+
+ private:
+  void log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message);
+  std::optional<JobRecord> get_locked(std::int64_t id);
+  std::optional<std::string> curve_column(std::int64_t id, const char* column);
+
+  std::mutex mutex_;
+  std::unique_ptr<sqlite::Database> db_;
+};
+
+}  // namespace granulab::server

@@ -1,0 +1,100 @@
+// The job store's schema, as versioned migrations. PRAGMA user_version holds how many have been applied;
+// migrate() applies the missing ones in order, one transaction each (the schema change and the version
+// bump commit together, so a crash leaves either the old or the new version, never a mix).
+// Never edit a migration that has shipped: append a new one.
+#include "server/store/migrations.h"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace granulab::server {
+
+namespace {
+
+// Times are Unix epoch milliseconds; 0 means "not yet". eta_seconds < 0 means "unknown".
+// Job ids come from AUTOINCREMENT, so they grow with submission order and are never reused: "oldest
+// first" is "smallest id first".
+const char* const kMigrations[] = {
+    // 1: jobs, their curves, snapshots and event log.
+    R"sql(
+CREATE TABLE jobs (
+  id               INTEGER PRIMARY KEY AUTOINCREMENT,
+  status           TEXT    NOT NULL DEFAULT 'queued'
+                   CHECK (status IN ('queued', 'running', 'succeeded', 'failed', 'cancelled')),
+  label            TEXT    NOT NULL DEFAULT '',
+  experiment       TEXT    NOT NULL,
+  spec_json        TEXT    NOT NULL,
+  spec_hash        TEXT    NOT NULL DEFAULT '',
+  engine_version   TEXT    NOT NULL DEFAULT '',
+  owner            TEXT    NOT NULL DEFAULT '',
+  priority         INTEGER NOT NULL DEFAULT 0,
+  progress         REAL    NOT NULL DEFAULT 0,
+  eta_seconds      REAL    NOT NULL DEFAULT -1,
+  error            TEXT    NOT NULL DEFAULT '',
+  summary_json     TEXT    NOT NULL DEFAULT '',
+  created_ms       INTEGER NOT NULL,
+  started_ms       INTEGER NOT NULL DEFAULT 0,
+  finished_ms      INTEGER NOT NULL DEFAULT 0,
+  cancel_requested INTEGER NOT NULL DEFAULT 0 CHECK (cancel_requested IN (0, 1))
+);
+-- Status filters, and the claim order (highest priority, then oldest) read straight off the index.
+CREATE INDEX jobs_by_status ON jobs (status, priority DESC, id);
+CREATE INDEX jobs_by_spec ON jobs (spec_hash, engine_version);
+
+CREATE TABLE curves (
+  job_id INTEGER PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
+  csv    TEXT NOT NULL,
+  json   TEXT NOT NULL
+);
+
+CREATE TABLE snapshots (
+  job_id INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  idx    INTEGER NOT NULL,
+  strain REAL    NOT NULL,
+  data   BLOB    NOT NULL,
+  PRIMARY KEY (job_id, idx)
+);
+
+-- job_id NULL: an event about the daemon, not about one job.
+CREATE TABLE events (
+  id      INTEGER PRIMARY KEY AUTOINCREMENT,
+  job_id  INTEGER REFERENCES jobs (id) ON DELETE CASCADE,
+  at_ms   INTEGER NOT NULL,
+  kind    TEXT    NOT NULL,
+  message TEXT    NOT NULL DEFAULT ''
+);
+CREATE INDEX events_by_job ON events (job_id, id);
+)sql",
+};
+
+constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);
+
+std::int64_t user_version(sqlite::Database& db) {
+  sqlite::Statement st(db, "PRAGMA user_version");
+  return st.step() ? st.column_int64(0) : 0;
+}
+
+}  // namespace
+
+std::size_t schema_version_latest() { return kMigrationCount; }
+
+void migrate(sqlite::Database& db) {
+  for (;;) {
+    // The version is read inside the write transaction: a second process migrating the same file at the
+    // same moment waits for the lock, then sees the bumped version and skips the step.
+    sqlite::Transaction tx(db);
+    const std::int64_t version = user_version(db);
+    if (version < 0 || static_cast<std::size_t>(version) > kMigrationCount) {
+      throw std::runtime_error("store: database schema version " + std::to_string(version) +
+                               " is newer than this build knows (" + std::to_string(kMigrationCount) +
+                               "); upgrade granulab");
+    }
+    if (static_cast<std::size_t>(version) == kMigrationCount) return;  // nothing to do: the guard rolls back
+    db.exec(kMigrations[version]);
+    db.exec("PRAGMA user_version = " + std::to_string(version + 1));
+    tx.commit();
+  }
+}
+
+}  // namespace granulab::server

@@ -1,0 +1,47 @@
+// The job queue's workers: K threads, each taking the next queued job from the store (highest
+// priority, oldest first), running it with `threads_per_job` OpenMP threads, reporting progress at
+// least every `progress_seconds`, and storing the result. HTTP handler threads never run simulations:
+// they only submit to the store and notify() the pool.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "server/store/job_store.h"
+
+namespace granulab::server {
+
+class WorkerPool {
+ public:
+  WorkerPool(JobStore& store, int workers, int threads_per_job, double progress_seconds = 1.0);
+  ~WorkerPool();  // stop()
+
+  void start();
+  /// A job was submitted: wake an idle worker.
+  void notify();
+  /// Stops taking jobs; running jobs are interrupted and left `running` in the store, so the next
+  /// start re-queues them (nothing computed for them is kept, nothing submitted is lost).
+  void stop();
+
+  int running() const { return running_.load(); }
+  int workers() const { return workers_; }
+  int threads_per_job() const { return threads_per_job_; }
+
+ private:
+  void work();
+  void run_job(const JobRecord& job);
+
+  JobStore& store_;
+  int workers_, threads_per_job_;
+  double progress_seconds_;
+  std::vector<std::thread> threads_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::atomic<bool> stopping_{false};
+  std::atomic<int> running_{0};
+};
+
+}  // namespace granulab::server

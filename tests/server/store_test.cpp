@@ -1,0 +1,598 @@
+// Tests of the daemon's SQLite job store (server/store): the job state machine, claim order and
+// atomicity under concurrent claims, byte-exact results, recovery after a crash, and the migrations.
+// Most run on ":memory:"; those about files (WAL, reopening, several connections, a real crash) run on a
+// database in a fresh temporary directory.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "server/store/job_store.h"
+#include "server/store/migrations.h"
+#include "server/store/sqlite.h"
+
+namespace granulab::server {
+namespace {
+
+namespace fs = std::filesystem;
+using CancelResult = JobStore::CancelResult;
+
+std::int64_t submit_job(JobStore& store, const std::string& label, int priority = 0,
+                        const std::string& spec_hash = "", const std::string& engine_version = "0.1.0") {
+  return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", label, spec_hash, engine_version,
+                      "tester", priority);
+}
+
+/// A fresh directory per test, removed afterwards.
+class StoreFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("granulab_store_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = (dir_ / "jobs.db").string();
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+
+  /// A single-value query on a separate connection (what an operator with the sqlite3 shell would see).
+  std::string query(const std::string& sql) {
+    sqlite::Database db(path_);
+    sqlite::Statement st(db, sql);
+    return st.step() ? st.column_text(0) : std::string("<no row>");
+  }
+
+  fs::path dir_;
+  std::string path_;
+};
+
+using StoreDeathTest = StoreFileTest;
+
+// ------------------------------------------------------------------------------------ sqlite wrappers
+
+TEST(SqliteWrapper, TransactionRollsBackUnlessCommitted) {
+  sqlite::Database db(":memory:");
+  db.exec("CREATE TABLE t (x INTEGER)");
+  try {
+    sqlite::Transaction tx(db);
+    sqlite::Statement(db, "INSERT INTO t VALUES (1)").run();
+    throw std::runtime_error("midway");
+  } catch (const std::runtime_error&) {
+  }
+  {
+    sqlite::Transaction tx(db);
+    sqlite::Statement(db, "INSERT INTO t VALUES (2)").run();
+    tx.commit();
+  }
+  sqlite::Statement st(db, "SELECT group_concat(x) FROM t");
+  ASSERT_TRUE(st.step());
+  EXPECT_EQ(st.column_text(0), "2");
+  EXPECT_TRUE(db.autocommit());
+}
+
+TEST(SqliteWrapper, ErrorsCarrySqliteMessage) {
+  sqlite::Database db(":memory:");
+  try {
+    sqlite::Statement st(db, "SELEC 1");
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("syntax error"), std::string::npos) << e.what();
+  }
+  db.exec("CREATE TABLE t (x INTEGER NOT NULL)");
+  sqlite::Statement insert(db, "INSERT INTO t VALUES (?1)");
+  insert.bind_null(1);
+  try {
+    insert.run();
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("NOT NULL"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(sqlite::Database("/nonexistent-dir/x/y.db"), std::runtime_error);
+}
+
+TEST(SqliteWrapper, TextAndBlobKeepEveryByte) {
+  sqlite::Database db(":memory:");
+  const std::string text("a\0b\xff", 4);
+  std::vector<std::uint8_t> blob = {0x00, 0xff, 0x00, 0x7f};
+  sqlite::Statement st(db, "SELECT ?1, ?2, typeof(?2), ?3, typeof(?3)");
+  st.bind(1, text).bind_blob(2, blob).bind_blob(3, std::vector<std::uint8_t>{});
+  ASSERT_TRUE(st.step());
+  EXPECT_EQ(st.column_text(0), text);
+  EXPECT_EQ(st.column_blob(1), blob);
+  EXPECT_EQ(st.column_text(2), "blob");
+  EXPECT_TRUE(st.column_blob(3).empty());
+  EXPECT_EQ(st.column_text(4), "blob");  // an empty blob, not NULL
+}
+
+// ------------------------------------------------------------------------------------------ the queue
+
+TEST(JobStore, SubmitStoresEveryField) {
+  JobStore store(":memory:");
+  const auto id = store.submit(R"({"experiment":"crystal_compression"})", "crystal_compression", "ref p0=60kPa",
+                               "abc123", "0.1.0", "alice", 3);
+  const auto job = store.get(id);
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->id, id);
+  EXPECT_EQ(job->status, "queued");
+  EXPECT_EQ(job->spec_json, R"({"experiment":"crystal_compression"})");
+  EXPECT_EQ(job->experiment, "crystal_compression");
+  EXPECT_EQ(job->label, "ref p0=60kPa");
+  EXPECT_EQ(job->spec_hash, "abc123");
+  EXPECT_EQ(job->engine_version, "0.1.0");
+  EXPECT_EQ(job->owner, "alice");
+  EXPECT_EQ(job->priority, 3);
+  EXPECT_EQ(job->progress, 0.0);
+  EXPECT_LT(job->eta_seconds, 0.0);
+  EXPECT_GT(job->created_ms, 1'600'000'000'000);  // after 2020: epoch milliseconds
+  EXPECT_EQ(job->started_ms, 0);
+  EXPECT_EQ(job->finished_ms, 0);
+  EXPECT_FALSE(job->cancel_requested);
+  EXPECT_TRUE(job->error.empty());
+  EXPECT_TRUE(job->summary_json.empty());
+  EXPECT_FALSE(store.get(id + 1));
+  ASSERT_EQ(store.events(id).size(), 1u);
+  EXPECT_EQ(store.events(id)[0].rfind("submitted: ", 0), 0u);
+}
+
+TEST(JobStore, ClaimTakesHighestPriorityThenOldest) {
+  JobStore store(":memory:");
+  const auto a = submit_job(store, "a", 0);
+  const auto b = submit_job(store, "b", 5);
+  const auto c = submit_job(store, "c", 0);
+  const auto d = submit_job(store, "d", 5);
+  const auto e = submit_job(store, "e", -1);
+  const auto f = submit_job(store, "f", 0);
+  std::vector<std::int64_t> order;
+  while (auto job = store.claim_next()) {
+    EXPECT_EQ(job->status, "running");
+    EXPECT_GT(job->started_ms, 0);
+    EXPECT_EQ(store.get(job->id)->status, "running");
+    order.push_back(job->id);
+  }
+  EXPECT_EQ(order, (std::vector<std::int64_t>{b, d, a, c, f, e}));
+  EXPECT_FALSE(store.claim_next());
+  EXPECT_EQ(store.count("running"), 6u);
+  EXPECT_EQ(store.count("queued"), 0u);
+}
+
+TEST(JobStore, ClaimSkipsCancelledJobs) {
+  JobStore store(":memory:");
+  const auto a = submit_job(store, "a");
+  const auto b = submit_job(store, "b");
+  EXPECT_EQ(store.request_cancel(a), CancelResult::cancelled_queued);
+  const auto job = store.claim_next();
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->id, b);
+  EXPECT_FALSE(store.claim_next());
+}
+
+/// Four threads drain 50 jobs: every job is claimed exactly once. `connections` = 1 shares one JobStore
+/// (the mutex serialises); 4 gives each thread its own connection to the same file (SQLite's locks do).
+void claim_concurrently(const std::string& path, int connections) {
+  constexpr int kJobs = 50;
+  constexpr int kThreads = 4;
+  std::vector<std::unique_ptr<JobStore>> stores;
+  for (int i = 0; i < connections; ++i) stores.push_back(std::make_unique<JobStore>(path));
+  std::vector<std::int64_t> submitted;
+  for (int i = 0; i < kJobs; ++i) submitted.push_back(submit_job(*stores[0], "job " + std::to_string(i), i % 3));
+
+  std::mutex claimed_mutex;
+  std::vector<std::int64_t> claimed;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      JobStore& store = *stores[static_cast<std::size_t>(t % connections)];
+      while (auto job = store.claim_next()) {
+        std::lock_guard<std::mutex> lock(claimed_mutex);
+        claimed.push_back(job->id);
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+
+  std::sort(claimed.begin(), claimed.end());
+  EXPECT_EQ(claimed, submitted);  // sorted ids: each exactly once, none missing
+  EXPECT_EQ(stores[0]->count("running"), static_cast<std::size_t>(kJobs));
+  EXPECT_EQ(stores[0]->count("queued"), 0u);
+}
+
+TEST(JobStore, ConcurrentClaimsOnOneStoreTakeEachJobOnce) { claim_concurrently(":memory:", 1); }
+
+TEST_F(StoreFileTest, ConcurrentClaimsOnOneFileTakeEachJobOnce) { claim_concurrently(path_, 1); }
+
+TEST_F(StoreFileTest, ConcurrentClaimsOverFourConnectionsTakeEachJobOnce) { claim_concurrently(path_, 4); }
+
+// --------------------------------------------------------------------------------- the state machine
+
+TEST(JobStore, ProgressThenSucceed) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  store.set_progress(id, 0.5, 10.0);  // queued: ignored
+  EXPECT_EQ(store.get(id)->progress, 0.0);
+
+  ASSERT_EQ(store.claim_next()->id, id);
+  store.set_progress(id, 0.25, 30.0);
+  EXPECT_EQ(store.get(id)->progress, 0.25);
+  EXPECT_EQ(store.get(id)->eta_seconds, 30.0);
+  store.set_progress(id, 1.5, std::nan(""));  // clamped; NaN eta = unknown
+  EXPECT_EQ(store.get(id)->progress, 1.0);
+  EXPECT_LT(store.get(id)->eta_seconds, 0.0);
+
+  EXPECT_TRUE(store.succeed(id, R"({"steps":10})", "a,b\n1,2\n", R"({"a":[1]})"));
+  const auto job = store.get(id);
+  EXPECT_EQ(job->status, "succeeded");
+  EXPECT_EQ(job->progress, 1.0);
+  EXPECT_EQ(job->summary_json, R"({"steps":10})");
+  EXPECT_GE(job->finished_ms, job->started_ms);
+  EXPECT_GE(job->started_ms, job->created_ms);
+
+  // Finished is final.
+  EXPECT_FALSE(store.succeed(id, "{}", "", ""));
+  EXPECT_FALSE(store.fail(id, "late"));
+  EXPECT_FALSE(store.mark_cancelled(id));
+  EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
+  store.set_progress(id, 0.1, 1.0);
+  EXPECT_EQ(store.get(id)->progress, 1.0);
+  EXPECT_EQ(store.get(id)->status, "succeeded");
+  EXPECT_EQ(store.get(id)->summary_json, R"({"steps":10})");
+
+  const std::vector<std::string> expected = {"started: ", "succeeded: "};
+  auto events = store.events(id);
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(events.begin() + 1, events.end()), expected);
+}
+
+TEST(JobStore, SucceedNeedsARunningJob) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  EXPECT_FALSE(store.succeed(id, "{}", "csv", "json"));
+  EXPECT_EQ(store.get(id)->status, "queued");
+  EXPECT_FALSE(store.curve_csv(id));  // nothing half-written
+  EXPECT_FALSE(store.succeed(999, "{}", "", ""));
+}
+
+TEST(JobStore, Fail) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  store.claim_next();
+  EXPECT_TRUE(store.fail(id, "contact solver diverged at step 42"));
+  const auto job = store.get(id);
+  EXPECT_EQ(job->status, "failed");
+  EXPECT_EQ(job->error, "contact solver diverged at step 42");
+  EXPECT_GT(job->finished_ms, 0);
+  EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
+  EXPECT_FALSE(store.succeed(id, "{}", "", ""));
+  EXPECT_EQ(store.events(id).back(), "failed: contact solver diverged at step 42");
+  EXPECT_FALSE(store.fail(12345, "unknown"));
+}
+
+TEST(JobStore, CancelQueuedIsImmediate) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  EXPECT_EQ(store.request_cancel(id), CancelResult::cancelled_queued);
+  const auto job = store.get(id);
+  EXPECT_EQ(job->status, "cancelled");
+  EXPECT_GT(job->finished_ms, 0);
+  EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
+  EXPECT_EQ(store.request_cancel(id + 100), CancelResult::not_found);
+  EXPECT_FALSE(store.claim_next());
+}
+
+TEST(JobStore, CancelRunningIsARequestTheWorkerHonours) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  store.claim_next();
+  EXPECT_FALSE(store.cancel_requested(id));
+  EXPECT_EQ(store.request_cancel(id), CancelResult::requested_running);
+  EXPECT_TRUE(store.cancel_requested(id));
+  EXPECT_EQ(store.get(id)->status, "running");  // until the worker stops
+  EXPECT_TRUE(store.get(id)->cancel_requested);
+  EXPECT_EQ(store.request_cancel(id), CancelResult::requested_running);  // asking twice is harmless
+
+  EXPECT_TRUE(store.mark_cancelled(id));
+  EXPECT_EQ(store.get(id)->status, "cancelled");
+  EXPECT_GT(store.get(id)->finished_ms, 0);
+  EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
+  EXPECT_FALSE(store.mark_cancelled(id));
+  EXPECT_FALSE(store.cancel_requested(999));
+
+  const auto events = store.events(id);
+  ASSERT_EQ(events.size(), 5u);
+  EXPECT_EQ(events[1], "started: ");
+  EXPECT_EQ(events[2], "cancel_requested: ");
+  EXPECT_EQ(events[4].rfind("cancelled: ", 0), 0u);
+}
+
+TEST_F(StoreFileTest, FailureMidwayLeavesNoTrace) {
+  JobStore store(path_);
+  const auto id = submit_job(store, "x");
+  store.claim_next();
+  {
+    // Another connection makes the curve insert fail, i.e. after the job row was already updated.
+    sqlite::Database db(path_);
+    db.exec("CREATE TRIGGER no_curves BEFORE INSERT ON curves BEGIN SELECT RAISE(ABORT, 'disk on fire'); END");
+  }
+  try {
+    store.succeed(id, R"({"steps":1})", "csv", "json");
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("disk on fire"), std::string::npos) << e.what();
+  }
+  auto job = store.get(id);
+  EXPECT_EQ(job->status, "running");
+  EXPECT_TRUE(job->summary_json.empty());
+  EXPECT_EQ(job->finished_ms, 0);
+  EXPECT_EQ(store.events(id).size(), 2u);  // submitted, started: no "succeeded"
+
+  {
+    sqlite::Database db(path_);
+    db.exec("DROP TRIGGER no_curves");
+  }
+  EXPECT_TRUE(store.succeed(id, R"({"steps":1})", "csv", "json"));  // the connection is usable again
+  EXPECT_EQ(store.get(id)->status, "succeeded");
+}
+
+// ------------------------------------------------------------------------------------------- results
+
+TEST(JobStore, CurvesRoundTrip) {
+  JobStore store(":memory:");
+  const auto id = submit_job(store, "x");
+  store.claim_next();
+  EXPECT_FALSE(store.curve_csv(id));
+  EXPECT_FALSE(store.curve_json(id));
+  const std::string csv = "strain,stress_top,stress_bottom,deviator\n0,60000,60000,0\n0.001,61234.5,61200.25,1217.375\n";
+  const std::string json = R"({"columns":["strain"],"rows":[[0],[1e-3]],"note":"ünïcode ✓"})";
+  ASSERT_TRUE(store.succeed(id, "{}", csv, json));
+  EXPECT_EQ(store.curve_csv(id), csv);
+  EXPECT_EQ(store.curve_json(id), json);
+  EXPECT_FALSE(store.curve_csv(id + 1));
+}
+
+TEST_F(StoreFileTest, SnapshotBlobsRoundTripByteExact) {
+  std::vector<std::uint8_t> every_byte(256);
+  std::iota(every_byte.begin(), every_byte.end(), 0);  // 0x00 .. 0xff
+  std::vector<std::uint8_t> large(3 * 1024 * 1024 + 7);  // spans many overflow pages
+  for (std::size_t i = 0; i < large.size(); ++i) large[i] = static_cast<std::uint8_t>((i * 2654435761u) >> 13);
+  large.front() = 0x00;
+  large.back() = 0xff;
+  const std::vector<std::uint8_t> nul_heavy = {0x00, 0x00, 0xff, 0x00};
+
+  std::int64_t id = 0;
+  {
+    JobStore store(path_);
+    id = submit_job(store, "x");
+    store.claim_next();
+    store.add_snapshot(id, 2, 0.04, large);
+    store.add_snapshot(id, 0, 0.0, every_byte);
+    store.add_snapshot(id, 1, 0.01, {0x01});
+    store.add_snapshot(id, 1, 0.02, nul_heavy);  // same index again: replaced
+    store.add_snapshot(id, 3, 0.08, {});
+  }
+  JobStore store(path_);  // read back through a fresh connection: what is on disk
+  const auto infos = store.snapshots(id);
+  ASSERT_EQ(infos.size(), 4u);
+  EXPECT_EQ(infos[0].index, 0);
+  EXPECT_EQ(infos[0].bytes, 256u);
+  EXPECT_EQ(infos[1].index, 1);
+  EXPECT_EQ(infos[1].strain, 0.02);
+  EXPECT_EQ(infos[1].bytes, 4u);
+  EXPECT_EQ(infos[2].index, 2);
+  EXPECT_EQ(infos[2].strain, 0.04);
+  EXPECT_EQ(infos[2].bytes, large.size());
+  EXPECT_EQ(infos[3].bytes, 0u);
+
+  EXPECT_EQ(store.snapshot(id, 0), every_byte);
+  EXPECT_EQ(store.snapshot(id, 1), nul_heavy);
+  EXPECT_TRUE(store.snapshot(id, 2) == large);
+  ASSERT_TRUE(store.snapshot(id, 3));
+  EXPECT_TRUE(store.snapshot(id, 3)->empty());
+  EXPECT_FALSE(store.snapshot(id, 4));
+  EXPECT_FALSE(store.snapshot(id + 1, 0));
+  EXPECT_TRUE(store.snapshots(id + 1).empty());
+
+  EXPECT_EQ(query("SELECT group_concat(DISTINCT typeof(data)) FROM snapshots"), "blob");
+}
+
+TEST(JobStore, FindSucceededMatchesHashAndEngineVersion) {
+  JobStore store(":memory:");
+  EXPECT_FALSE(store.find_succeeded("h1", "0.1.0"));
+  const auto first = submit_job(store, "first", 0, "h1", "0.1.0");
+  EXPECT_FALSE(store.find_succeeded("h1", "0.1.0"));  // queued is not a result
+  store.claim_next();
+  EXPECT_FALSE(store.find_succeeded("h1", "0.1.0"));  // neither is running
+  store.succeed(first, "{}", "", "");
+  EXPECT_EQ(store.find_succeeded("h1", "0.1.0"), first);
+  EXPECT_FALSE(store.find_succeeded("h1", "0.2.0"));
+  EXPECT_FALSE(store.find_succeeded("h2", "0.1.0"));
+
+  const auto failed = submit_job(store, "failed", 0, "h1", "0.1.0");
+  store.claim_next();
+  store.fail(failed, "boom");
+  EXPECT_EQ(store.find_succeeded("h1", "0.1.0"), first);
+
+  const auto second = submit_job(store, "second", 0, "h1", "0.1.0");
+  store.claim_next();
+  store.succeed(second, "{}", "", "");
+  EXPECT_EQ(store.find_succeeded("h1", "0.1.0"), second);  // the newest
+
+  const auto unhashed = submit_job(store, "no hash", 0, "", "0.1.0");
+  store.claim_next();
+  store.succeed(unhashed, "{}", "", "");
+  EXPECT_FALSE(store.find_succeeded("", "0.1.0"));
+}
+
+// ------------------------------------------------------------------------------------------ listing
+
+TEST(JobStore, ListNewestFirstWithFilterAndPaging) {
+  JobStore store(":memory:");
+  std::vector<std::int64_t> ids;
+  for (int i = 0; i < 7; ++i) ids.push_back(submit_job(store, "job " + std::to_string(i), i == 2 ? 9 : 0));
+  const auto running = store.claim_next();  // job 2 (priority 9)
+  ASSERT_EQ(running->id, ids[2]);
+  store.request_cancel(ids[4]);
+
+  const auto all = store.list("", -1, 0);
+  ASSERT_EQ(all.size(), 7u);
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(all[i].id, ids[6 - i]);
+  EXPECT_EQ(all[0].label, "job 6");
+
+  const auto queued = store.list("queued", 100, 0);
+  std::vector<std::int64_t> queued_ids;
+  for (const auto& job : queued) queued_ids.push_back(job.id);
+  EXPECT_EQ(queued_ids, (std::vector<std::int64_t>{ids[6], ids[5], ids[3], ids[1], ids[0]}));
+  ASSERT_EQ(store.list("running", 10, 0).size(), 1u);
+  EXPECT_EQ(store.list("running", 10, 0)[0].id, ids[2]);
+  ASSERT_EQ(store.list("cancelled", 10, 0).size(), 1u);
+  EXPECT_TRUE(store.list("succeeded", 10, 0).empty());
+  EXPECT_TRUE(store.list("no-such-status", 10, 0).empty());
+
+  const auto page = store.list("", 2, 2);
+  ASSERT_EQ(page.size(), 2u);
+  EXPECT_EQ(page[0].id, ids[4]);
+  EXPECT_EQ(page[1].id, ids[3]);
+  const auto queued_page = store.list("queued", 2, 4);
+  ASSERT_EQ(queued_page.size(), 1u);
+  EXPECT_EQ(queued_page[0].id, ids[0]);
+  EXPECT_TRUE(store.list("", 10, 7).empty());
+  EXPECT_TRUE(store.list("", 0, 0).empty());
+
+  EXPECT_EQ(store.count(""), 7u);
+  EXPECT_EQ(store.count("queued"), 5u);
+  EXPECT_EQ(store.count("running"), 1u);
+  EXPECT_EQ(store.count("cancelled"), 1u);
+  EXPECT_EQ(store.count("failed"), 0u);
+}
+
+// ----------------------------------------------------------------------------- durability, recovery
+
+TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
+  std::int64_t interrupted = 0;
+  std::int64_t waiting = 0;
+  std::int64_t done = 0;
+  {
+    JobStore store(path_);
+    done = submit_job(store, "done", 1);
+    store.claim_next();
+    store.succeed(done, "{}", "csv", "json");
+    interrupted = submit_job(store, "interrupted", 0);
+    waiting = submit_job(store, "waiting", 0);
+    ASSERT_EQ(store.claim_next()->id, interrupted);
+    store.set_progress(interrupted, 0.4, 12.0);
+    store.add_snapshot(interrupted, 0, 0.0, {0x00, 0xff});
+    store.request_cancel(interrupted);
+    // The store object goes away with the job still running: the daemon died.
+  }
+  JobStore store(path_);
+  EXPECT_EQ(store.get(interrupted)->status, "running");
+  EXPECT_EQ(store.requeue_running(), 1u);
+  const auto job = store.get(interrupted);
+  EXPECT_EQ(job->status, "queued");
+  EXPECT_EQ(job->progress, 0.0);
+  EXPECT_EQ(job->started_ms, 0);
+  EXPECT_FALSE(job->cancel_requested);
+  EXPECT_TRUE(store.snapshots(interrupted).empty());
+  EXPECT_EQ(store.events(interrupted).back().rfind("requeued: ", 0), 0u);
+  ASSERT_EQ(store.events(0).size(), 1u);
+  EXPECT_EQ(store.events(0)[0].rfind("requeued: 1 ", 0), 0u);
+  // Everything else is as it was.
+  EXPECT_EQ(store.get(done)->status, "succeeded");
+  EXPECT_EQ(store.curve_csv(done), "csv");
+  EXPECT_EQ(store.get(waiting)->status, "queued");
+
+  EXPECT_EQ(store.requeue_running(), 0u);
+  ASSERT_EQ(store.claim_next()->id, interrupted);  // keeps its place: older than "waiting"
+  store.add_snapshot(interrupted, 0, 0.0, {0x01});  // the rerun writes its own snapshots
+  EXPECT_EQ(store.snapshot(interrupted, 0), (std::vector<std::uint8_t>{0x01}));
+}
+
+TEST_F(StoreDeathTest, RequeueRunningAfterRealCrash) {
+  {
+    JobStore store(path_);
+    submit_job(store, "a");
+    submit_job(store, "b");
+  }
+  // The child claims a job and dies without closing anything (no destructors, WAL left behind).
+  EXPECT_EXIT(
+      {
+        JobStore store(path_);
+        store.claim_next();
+        store.set_progress(1, 0.5, 1.0);
+        std::_Exit(3);
+      },
+      ::testing::ExitedWithCode(3), "");
+  JobStore store(path_);
+  EXPECT_EQ(store.get(1)->status, "running");
+  EXPECT_EQ(store.get(1)->progress, 0.5);
+  EXPECT_EQ(store.requeue_running(), 1u);
+  EXPECT_EQ(store.get(1)->status, "queued");
+  EXPECT_EQ(store.get(2)->status, "queued");
+  EXPECT_EQ(store.events(1).back().rfind("requeued: ", 0), 0u);
+  EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
+}
+
+TEST_F(StoreFileTest, MigrationsAreIdempotentAndTheFileIsHealthy) {
+  std::int64_t id = 0;
+  {
+    JobStore store(path_);
+    id = submit_job(store, "kept");
+  }
+  {
+    JobStore again(path_);  // migrations run again: nothing to do, nothing lost
+    EXPECT_EQ(again.get(id)->label, "kept");
+    JobStore concurrently(path_);  // a second connection while the first is open
+    EXPECT_EQ(concurrently.count(""), 1u);
+  }
+  EXPECT_EQ(query("PRAGMA user_version"), std::to_string(schema_version_latest()));
+  EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(query("PRAGMA foreign_key_check"), "<no row>");
+  EXPECT_EQ(query("PRAGMA journal_mode"), "wal");
+  EXPECT_EQ(query("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name LIKE 'jobs_by_%'"), "2");
+}
+
+TEST_F(StoreFileTest, RefusesADatabaseFromANewerBuild) {
+  { JobStore store(path_); }
+  {
+    sqlite::Database db(path_);
+    db.exec("PRAGMA user_version = " + std::to_string(schema_version_latest() + 1));
+  }
+  EXPECT_THROW(JobStore store(path_), std::runtime_error);
+}
+
+TEST_F(StoreFileTest, DeletingAJobCascadesToItsResults) {
+  std::int64_t id = 0;
+  {
+    JobStore store(path_);
+    id = submit_job(store, "x");
+    store.claim_next();
+    store.add_snapshot(id, 0, 0.0, {1, 2, 3});
+    store.succeed(id, "{}", "csv", "json");
+    EXPECT_THROW(store.log_event(id + 1, "note", "no such job"), std::runtime_error);  // foreign key
+    store.log_event(0, "note", "daemon-wide");
+  }
+  {
+    sqlite::Database db(path_);  // foreign keys are on for every connection the wrapper opens
+    sqlite::Statement del(db, "DELETE FROM jobs WHERE id = ?1");
+    del.bind(1, id).run();
+  }
+  EXPECT_EQ(query("SELECT count(*) FROM curves"), "0");
+  EXPECT_EQ(query("SELECT count(*) FROM snapshots"), "0");
+  EXPECT_EQ(query("SELECT count(*) FROM events"), "1");  // only the daemon-wide one
+}
+
+}  // namespace
+}  // namespace granulab::server
