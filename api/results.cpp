@@ -6,33 +6,45 @@ namespace granulab::api {
 
 const char* engine_version() { return "0.1.0"; }
 
-nlohmann::json summary_json(const TwoCubeResult& r, const nlohmann::json& spec) {
+namespace {
+
+// The contract's summary keys, which every experiment's result provides under the same names.
+template <class Result>
+nlohmann::json run_fields(const Result& r, const char* experiment, const nlohmann::json& spec, std::size_t grains) {
   const double sphere_steps = double(r.spheres) * double(r.steps);
   nlohmann::json s;
-  s["experiment"] = "two_cube_sliding";
+  s["experiment"] = experiment;
   s["engine_version"] = engine_version();
   s["spec"] = spec;
-  s["grains"] = 2;
+  s["grains"] = grains;
   s["spheres"] = r.spheres;
   s["steps"] = r.steps;
   s["time_step"] = r.time_step;
   s["wall_seconds"] = r.wall_seconds;
   s["threads"] = r.threads;
   s["sphere_steps_per_second"] = r.wall_seconds > 0 ? sphere_steps / r.wall_seconds : 0.0;
+  s["seconds_per_step"] = r.steps > 0 ? r.wall_seconds / double(r.steps) : 0.0;
   s["sphere_diameter"] = r.sphere_diameter;
-  s["sphere_spacing"] = r.spacing;
   s["normal_stiffness"] = r.normal_stiffness;
   s["spheres_per_face"] = r.spheres_per_face;
-  s["p0"] = r.p0;
-  s["slide_speed"] = r.slide_speed;
-  s["critical_prestrain"] = r.critical_prestrain;
-  s["contact_end_slide_over_size"] = r.contact_end_slide;
   s["neighbor_rebuilds"] = r.rebuilds;
   s["stage_seconds"] = {{"integrate", r.stage_times.integrate},
                         {"sphere_positions", r.stage_times.spheres},
                         {"neighbor_rebuild", r.stage_times.rebuild},
                         {"contact_forces", r.stage_times.contacts},
                         {"wall_forces", r.stage_times.walls}};
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json summary_json(const TwoCubeResult& r, const nlohmann::json& spec) {
+  nlohmann::json s = run_fields(r, "two_cube_sliding", spec, 2);
+  s["sphere_spacing"] = r.spacing;
+  s["p0"] = r.p0;
+  s["slide_speed"] = r.slide_speed;
+  s["critical_prestrain"] = r.critical_prestrain;
+  s["contact_end_slide_over_size"] = r.contact_end_slide;
   return s;
 }
 
@@ -47,39 +59,20 @@ std::string curve_csv(const TwoCubeResult& r) {
   return out;
 }
 
-}  // namespace granulab::api
-
-namespace granulab::api {
 
 nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& spec) {
-  const double sphere_steps = double(r.spheres) * double(r.steps);
   const double p0 = spec["loading"]["confining_pressure"].get<double>();
   const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve, p0);
   double peak = 0, peak_strain = 0;
   for (const CrystalRow& row : r.curve)
     if (row.deviator > peak) peak = row.deviator, peak_strain = row.strain;
-  nlohmann::json s;
-  s["experiment"] = "crystal_compression";
-  s["engine_version"] = engine_version();
-  s["spec"] = spec;
-  s["grains"] = r.grains;
+  nlohmann::json s = run_fields(r, "crystal_compression", spec, r.grains);
   s["knocked_out"] = r.knocked_out;
-  s["spheres"] = r.spheres;
-  s["steps"] = r.steps;
   s["compression_steps"] = r.compression_steps;
-  s["time_step"] = r.time_step;
-  s["wall_seconds"] = r.wall_seconds;
-  s["threads"] = r.threads;
-  s["sphere_steps_per_second"] = r.wall_seconds > 0 ? sphere_steps / r.wall_seconds : 0.0;
-  s["seconds_per_step"] = r.steps > 0 ? r.wall_seconds / r.steps : 0.0;
-  s["sphere_diameter"] = r.sphere_diameter;
-  s["normal_stiffness"] = r.normal_stiffness;
-  s["spheres_per_face"] = r.spheres_per_face;
   s["prestrain"] = r.prestrain;
   s["strain_rate"] = r.strain_rate;
   s["initial_length"] = r.initial_length;
   s["cross_section"] = r.cross_section;
-  s["neighbor_rebuilds"] = r.rebuilds;
   s["confinement"] = {{"steps", r.confinement.steps},
                       {"converged", r.confinement.converged},
                       {"stress_top", r.confinement.stress_top},
@@ -98,11 +91,6 @@ nlohmann::json summary_json(const CrystalResult& r, const nlohmann::json& spec) 
   for (std::size_t k = 0; k < r.snapshots.size(); ++k)
     snaps.push_back({{"index", k}, {"strain", r.snapshots[k].strain}, {"step", r.snapshots[k].step}});
   s["snapshots"] = snaps;
-  s["stage_seconds"] = {{"integrate", r.stage_times.integrate},
-                        {"sphere_positions", r.stage_times.spheres},
-                        {"neighbor_rebuild", r.stage_times.rebuild},
-                        {"contact_forces", r.stage_times.contacts},
-                        {"wall_forces", r.stage_times.walls}};
   return s;
 }
 
