@@ -21,6 +21,7 @@
 #include "api/results.h"
 #include "api/snapshot_files.h"
 #include "api/spec.h"
+#include "clients/cli/remote.h"
 
 namespace fs = std::filesystem;
 using namespace granulab;
@@ -29,6 +30,8 @@ namespace {
 
 const char* kUsage =
     "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
+    "       granulab submit SPEC.json [--reuse] [--priority N] | status ID | wait ID | results ID --out DIR |\n"
+    "                cancel ID | list [--status S] [--limit N]      (server: --server URL or GRANULAB_SERVER)\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
     "The spec format is in the README (every field has a default: {\"experiment\": \"two_cube_sliding\"}).\n";
@@ -229,10 +232,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "submit" || command == "status" || command == "wait" || command == "results" ||
-        command == "cancel" || command == "list") {
-      spdlog::error("'{}' talks to the granulabd server, which is not part of this build yet", command);
-      return 2;
-    }
+        command == "cancel" || command == "list")
+      return cli::run_remote(argc, argv);
     std::cerr << "unknown command '" << command << "'\n" << kUsage;
     return 2;
   } catch (const std::invalid_argument& e) {

@@ -3,9 +3,15 @@
 // same spec, and bad requests get their documented status and a message naming the field.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <thread>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -168,6 +174,51 @@ TEST_F(Daemon, BadRequestsGetTheirDocumentedStatus) {
   post("/v1/jobs/12345/cancel", "", 404);
   EXPECT_EQ(get("/v1/jobs/" + std::to_string(id))["status"], "cancelled");
   EXPECT_EQ(get("/v1/health")["status"], "ok");  // and the daemon is still up
+}
+
+}  // namespace
+}  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// The CLI's remote commands against this daemon: submit, wait, results, list, cancel, status.
+std::pair<int, std::string> shell(const std::string& command) {
+  std::string output;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+TEST_F(Daemon, CliRemoteCommands) {
+  pool_->start();
+  const std::string cli = std::string(GRANULAB_BINARY_DIR) + "/granulab";
+  const std::string server = " --server http://127.0.0.1:" + std::to_string(port_);
+  const fs::path spec = dir_ / "spec.json";
+  std::ofstream(spec) << kTwoCube;
+
+  auto [code, out] = shell(cli + " submit " + spec.string() + server);
+  ASSERT_EQ(code, 0) << out;
+  const std::int64_t id = json::parse(out)["id"];
+  std::tie(code, out) = shell(cli + " wait " + std::to_string(id) + server);
+  EXPECT_EQ(code, 0) << out;
+  std::tie(code, out) = shell(cli + " results " + std::to_string(id) + " --out " + (dir_ / "r").string() + server);
+  ASSERT_EQ(code, 0) << out;
+  std::ifstream curve(dir_ / "r" / "curve.csv");
+  std::stringstream text;
+  text << curve.rdbuf();
+  EXPECT_EQ(text.str(), api::run_spec(api::parse_spec_text(kTwoCube)).curve_csv);
+  std::tie(code, out) = shell(cli + " list" + server);
+  EXPECT_EQ(code, 0);
+  EXPECT_NE(out.find("succeeded"), std::string::npos) << out;
+  std::tie(code, out) = shell(cli + " cancel " + std::to_string(id) + server);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("409"), std::string::npos) << out;
+  std::tie(code, out) = shell(cli + " status 4242" + server);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("404"), std::string::npos) << out;
 }
 
 }  // namespace
