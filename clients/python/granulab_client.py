@@ -1,0 +1,237 @@
+#!/usr/bin/env python3
+"""Standard-library-only Python client for the granulab lab server (granulabd).
+
+    from granulab_client import Client
+    c = Client()                        # GRANULAB_SERVER or http://127.0.0.1:8080
+    job = c.submit({"experiment": "two_cube_sliding"})
+    c.wait(job)
+    curve = c.curve(job)                # {"columns": [...], "<name>": [...], ...}
+
+Command line (prints JSON, or CSV for `curve --csv`):
+
+    granulab_client.py [--server URL] submit SPEC.json [--reuse] [--priority N]
+    granulab_client.py [--server URL] status ID | wait ID | cancel ID | snapshots ID
+    granulab_client.py [--server URL] curve ID [--csv]
+    granulab_client.py [--server URL] list [--status S] [--limit N] [--offset N]
+    granulab_client.py [--server URL] health
+
+Requires Python >= 3.9 and nothing outside the standard library.
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+__all__ = ["Client", "GranulabError", "DEFAULT_SERVER"]
+
+DEFAULT_SERVER = "http://127.0.0.1:8080"
+TERMINAL = ("succeeded", "failed", "cancelled")
+
+
+class GranulabError(Exception):
+    """An error reported by the server (status is the HTTP status, 0 if the server is unreachable)."""
+
+    def __init__(self, status, code="error", message="", field=""):
+        self.status = int(status)
+        self.code = code or "error"
+        self.message = message or ""
+        self.field = field or ""
+        super().__init__(str(self))
+
+    def __str__(self):
+        text = f"HTTP {self.status} {self.code}: {self.message}" if self.status else \
+            f"{self.code}: {self.message}"
+        if self.field:
+            text += f" (field '{self.field}')"
+        return text
+
+
+class Client:
+    def __init__(self, server=None, timeout=30.0):
+        server = server or os.environ.get("GRANULAB_SERVER") or DEFAULT_SERVER
+        if "://" not in server:
+            server = "http://" + server
+        self.server = server.rstrip("/")
+        self.timeout = timeout
+
+    # -- transport -------------------------------------------------------------------------------
+    def _request(self, method, path, query=None, body=None, raw=False):
+        url = self.server + path
+        if query:
+            query = {k: v for k, v in query.items() if v is not None}
+            if query:
+                url += "?" + urllib.parse.urlencode(query)
+        data = None
+        headers = {"Accept": "application/json"}
+        if method == "POST":
+            # Always send a body (possibly empty) so Content-Length is set: the server rejects
+            # POSTs without one.
+            data = body if isinstance(body, bytes) else (body or "").encode("utf-8")
+            headers["Content-Type"] = "application/json"
+        req = urllib.request.Request(url, data=data, method=method, headers=headers)
+        try:
+            with urllib.request.urlopen(req, timeout=self.timeout) as resp:
+                payload = resp.read().decode("utf-8")
+                status = resp.status
+        except urllib.error.HTTPError as e:
+            raise self._error_from(e.code, e.read().decode("utf-8", "replace")) from None
+        except urllib.error.URLError as e:
+            raise GranulabError(0, "unreachable", f"cannot reach {self.server}: {e.reason}") from None
+        except (ConnectionError, TimeoutError, OSError) as e:  # e.g. reset mid-response
+            raise GranulabError(0, "unreachable", f"cannot reach {self.server}: {e}") from None
+        if raw:
+            return payload
+        try:
+            result = json.loads(payload) if payload else {}
+        except ValueError:
+            raise GranulabError(status, "bad_response", f"server sent non-JSON: {payload[:200]!r}") from None
+        return result
+
+    @staticmethod
+    def _error_from(status, text):
+        try:
+            err = json.loads(text).get("error") or {}
+            if not isinstance(err, dict):
+                err = {"message": str(err)}
+        except (ValueError, AttributeError):
+            err = {"message": text.strip()[:500]}
+        return GranulabError(status, err.get("code"), err.get("message"), err.get("field"))
+
+    # -- API ---------------------------------------------------------------------------------------
+    def submit(self, spec, reuse=False, priority=None):
+        """Submit a spec (a dict, a JSON string, or a path to a JSON file). Returns the job id."""
+        if isinstance(spec, dict):
+            body = json.dumps(spec)
+        elif isinstance(spec, (str, os.PathLike)) and os.path.exists(spec):
+            with open(spec, encoding="utf-8") as f:
+                body = f.read()
+        elif isinstance(spec, str) and spec.lstrip().startswith("{"):
+            body = spec
+        else:
+            raise FileNotFoundError(f"spec file not found: {spec}")
+        query = {}
+        if reuse:
+            query["reuse"] = "true"
+        if priority is not None:
+            query["priority"] = int(priority)
+        return int(self._request("POST", "/v1/jobs", query, body)["id"])
+
+    def status(self, job_id):
+        return self._request("GET", f"/v1/jobs/{int(job_id)}")
+
+    def wait(self, job_id, timeout=None, poll=0.5, on_progress=None):
+        """Poll until the job finishes. Returns the final status dict if it succeeded; raises
+        GranulabError on failed/cancelled and TimeoutError if `timeout` seconds pass first."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            st = self.status(job_id)
+            if on_progress is not None:
+                on_progress(st)
+            state = st.get("status")
+            if state == "succeeded":
+                return st
+            if state in ("failed", "cancelled"):
+                message = st.get("error") or f"job {job_id} {state}"
+                if isinstance(message, dict):
+                    message = message.get("message", json.dumps(message))
+                raise GranulabError(0, state, str(message))
+            if deadline is not None and time.monotonic() >= deadline:
+                raise TimeoutError(f"job {job_id} still {state} after {timeout} s")
+            time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
+
+    def curve(self, job_id):
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/curve")
+
+    def curve_csv(self, job_id):
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/curve", {"format": "csv"}, raw=True)
+
+    def snapshots(self, job_id):
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots").get("snapshots", [])
+
+    def snapshot(self, job_id, k):
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}")
+
+    def cancel(self, job_id):
+        return self._request("POST", f"/v1/jobs/{int(job_id)}/cancel")
+
+    def list(self, status=None, limit=50, offset=0):
+        return self._request("GET", "/v1/jobs", {"status": status, "limit": limit, "offset": offset}) \
+            .get("jobs", [])
+
+    def health(self):
+        return self._request("GET", "/v1/health")
+
+
+# -- command line ----------------------------------------------------------------------------------
+def _print_json(obj):
+    json.dump(obj, sys.stdout, indent=2, sort_keys=True)
+    sys.stdout.write("\n")
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="granulab_client.py", description="granulab lab server client")
+    p.add_argument("--server", help=f"server URL (default: $GRANULAB_SERVER or {DEFAULT_SERVER})")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    s = sub.add_parser("submit", help="submit SPEC.json, print the new job")
+    s.add_argument("spec")
+    s.add_argument("--reuse", action="store_true", help="reuse a stored result for an identical spec")
+    s.add_argument("--priority", type=int)
+    for name in ("status", "wait", "cancel", "snapshots"):
+        sub.add_parser(name).add_argument("id", type=int)
+    c = sub.add_parser("curve")
+    c.add_argument("id", type=int)
+    c.add_argument("--csv", action="store_true")
+    sub.choices["wait"].add_argument("--timeout", type=float)
+    ls = sub.add_parser("list")
+    ls.add_argument("--status")
+    ls.add_argument("--limit", type=int, default=50)
+    ls.add_argument("--offset", type=int, default=0)
+    sub.add_parser("health")
+    a = p.parse_args(argv)
+
+    client = Client(a.server)
+    try:
+        if a.cmd == "submit":
+            job = client.submit(a.spec, reuse=a.reuse, priority=a.priority)
+            _print_json(client.status(job) if a.reuse else {"id": job})
+        elif a.cmd == "status":
+            _print_json(client.status(a.id))
+        elif a.cmd == "wait":
+            def report(st):
+                sys.stderr.write(f"\rjob {a.id}: {st.get('status')} {100 * float(st.get('progress') or 0):5.1f}%")
+                sys.stderr.flush()
+            try:
+                st = client.wait(a.id, timeout=a.timeout, on_progress=report if sys.stderr.isatty() else None)
+            finally:
+                if sys.stderr.isatty():
+                    sys.stderr.write("\n")
+            _print_json(st)
+        elif a.cmd == "curve":
+            if a.csv:
+                sys.stdout.write(client.curve_csv(a.id))
+            else:
+                _print_json(client.curve(a.id))
+        elif a.cmd == "cancel":
+            _print_json(client.cancel(a.id))
+        elif a.cmd == "snapshots":
+            _print_json(client.snapshots(a.id))
+        elif a.cmd == "list":
+            _print_json(client.list(status=a.status, limit=a.limit, offset=a.offset))
+        elif a.cmd == "health":
+            _print_json(client.health())
+    except BrokenPipeError:  # e.g. `... list | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    except (GranulabError, TimeoutError, OSError) as e:
+        sys.stderr.write(f"granulab_client: {e}\n")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
