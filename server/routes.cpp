@@ -89,7 +89,9 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
     if (!res.body.empty()) return;
     if (res.status == 413) error(res, 413, "too_large", "request body too large");
     else if (res.status == 404) error(res, 404, "not_found", "no such route");
-    else error(res, res.status, "error", "request failed");
+    // cpp-httplib rejects a POST without Content-Length before routing (e.g. `curl -X POST` with no -d).
+    else if (res.status == 400) error(res, 400, "bad_request", "malformed request: a POST needs a body or Content-Length: 0");
+    else error(res, res.status, "http_error", "request failed with HTTP " + std::to_string(res.status));
   });
   routes();
 }
