@@ -1,6 +1,6 @@
 # The two commands of the README. Both install what is missing (Debian packages, via apt-get),
 # configure and build first.
-#   make run   - build, then run the two-cube example and say where its curve is
+#   make run   - build, start granulabd on var/granulab.db, run the two-cube demo through it, keep serving
 #   make test  - build, then run every test (ctest)
 BUILD ?= build
 JOBS ?= $(shell nproc)
@@ -27,9 +27,7 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 run: build
-	$(BUILD)/granulab run examples/two_cube_f03.json --out out/two_cube_f03
-	@echo "curve: out/two_cube_f03/curve.csv   summary: out/two_cube_f03/summary.json"
-	@echo "plot:  /usr/bin/python3 examples/plot_two_cube.py out/two_cube_f03 (needs python3-matplotlib)"
+	BUILD=$(BUILD) clients/demo.sh
 
 bench: build
 	$(BUILD)/bench/bench_contacts

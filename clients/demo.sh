@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# `make run`: start granulabd on an SQLite file, submit the two-cube demo (Fig. 5c), wait for it, fetch its
+# results, and leave the daemon serving in the foreground (Ctrl-C stops it; jobs survive in the file).
+set -euo pipefail
+build=${BUILD:-build}
+port=${PORT:-8080}
+db=${DB:-var/granulab.db}
+export GRANULAB_SERVER=http://127.0.0.1:$port
+
+mkdir -p "$(dirname "$db")"
+"$build/granulabd" --port "$port" --db "$db" &
+daemon=$!
+trap 'kill -TERM $daemon 2>/dev/null; wait $daemon 2>/dev/null' EXIT INT TERM
+for _ in $(seq 100); do "$build/granulab" list >/dev/null 2>&1 && break; sleep 0.1; done
+
+echo "== submitting examples/two_cube_f03.json (two sliding cubes, f = 0.3; Fig. 5c of the paper)"
+reply=$("$build/granulab" submit examples/two_cube_f03.json --reuse)
+id=$(echo "$reply" | sed -n 's/.*"id":\([0-9]*\).*/\1/p')
+echo "$reply"
+"$build/granulab" wait "$id"
+"$build/granulab" results "$id" --out out/demo
+echo "== first rows of out/demo/curve.csv (u/l, P/P0, T/P0, P, T):"
+head -5 out/demo/curve.csv
+echo "== granulabd keeps serving at $GRANULAB_SERVER (database $db): try"
+echo "   build/granulab list     build/granulab submit examples/fig7c_p30.json     (Ctrl-C stops the daemon)"
+wait $daemon
