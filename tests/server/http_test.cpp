@@ -12,6 +12,9 @@
 #include <sstream>
 #include <thread>
 #include <tuple>
+#include <algorithm>
+#include <atomic>
+#include <mutex>
 
 #include <nlohmann/json.hpp>
 
@@ -181,6 +184,55 @@ TEST_F(Daemon, BadRequestsGetTheirDocumentedStatus) {
 
 namespace granulab::server {
 namespace {
+
+// 20 jobs from 4 client threads at once with 2 workers: every job runs exactly once and finishes, ids
+// are distinct, and never more than 2 run at a time (sampled through /v1/health while they run).
+TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
+  pool_->stop();
+  pool_ = std::make_unique<WorkerPool>(*store_, 2, 1, 0.05);
+  http_->stop();
+  serving_.join();
+  http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 8});
+  port_ = http_->bind("127.0.0.1", 0);
+  serving_ = std::thread([this] { http_->serve(); });
+  client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
+  for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  pool_->start();
+
+  std::vector<std::int64_t> ids;
+  std::mutex ids_mutex;
+  std::vector<std::thread> clients;
+  for (int t = 0; t < 4; ++t)
+    clients.emplace_back([&] {
+      httplib::Client c("127.0.0.1", port_);
+      for (int k = 0; k < 5; ++k) {
+        auto r = c.Post("/v1/jobs", kTwoCube, "application/json");
+        ASSERT_TRUE(r);
+        ASSERT_EQ(r->status, 201);
+        std::lock_guard<std::mutex> lock(ids_mutex);
+        ids.push_back(json::parse(r->body)["id"]);
+      }
+    });
+  int max_running = 0;
+  std::atomic<bool> sampling{true};
+  std::thread sampler([&] {
+    httplib::Client c("127.0.0.1", port_);
+    while (sampling) {
+      if (auto r = c.Get("/v1/health")) max_running = std::max(max_running, json::parse(r->body)["running"].get<int>());
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  for (std::thread& c : clients) c.join();
+  ASSERT_EQ(ids.size(), 20u);
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(std::unique(ids.begin(), ids.end()), ids.end());
+  for (std::int64_t id : ids) EXPECT_EQ(wait(id)["status"], "succeeded") << id;
+  sampling = false;
+  sampler.join();
+  EXPECT_LE(max_running, 2);
+  EXPECT_GE(max_running, 1);
+  EXPECT_EQ(get("/v1/jobs?status=succeeded&limit=100")["jobs"].size(), 20u);
+}
 
 // The CLI's remote commands against this daemon: submit, wait, results, list, cancel, status.
 std::pair<int, std::string> shell(const std::string& command) {
