@@ -20,8 +20,9 @@ using namespace granulab::server;
 namespace {
 
 const char* kUsage =
-    "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T]\n"
-    "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n";
+    "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
+    "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
+    "  --token-file: lines '<user> <token>'; then every route but /v1/health needs 'Authorization: Bearer'\n";
 
 int parse_int(const std::string& flag, const std::string& text, int lo, int hi) {
   std::size_t used = 0;
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
   granulab::api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
-  std::string host = "127.0.0.1", db = "var/granulab.db";
+  std::string host = "127.0.0.1", db = "var/granulab.db", token_file;
   int port = 8080, workers = 1, threads = 0;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
       else if (a == "--db") db = v;
       else if (a == "--workers") workers = parse_int(a, v, 1, 256);
       else if (a == "--threads") threads = parse_int(a, v, 1, 256);
+      else if (a == "--token-file") token_file = v;
       else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
     }
     // Workers x engine threads never exceed the cores.
@@ -80,7 +82,9 @@ int main(int argc, char** argv) {
     const std::size_t requeued = store.requeue_running();
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
     WorkerPool pool(store, workers, threads);
-    HttpServer http(store, pool);
+    HttpOptions options;
+    if (!token_file.empty()) options.tokens = read_token_file(token_file);
+    HttpServer http(store, pool, options);
     const int bound = http.bind(host, port);
     if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port));
     pool.start();
@@ -90,8 +94,8 @@ int main(int argc, char** argv) {
       spdlog::info("signal {}: stopping", sig);
       http.stop();
     });
-    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s))", host, bound, db, workers,
-                 threads);
+    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s), {})", host, bound, db,
+                 workers, threads, options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)");
     http.serve();
     pool.stop();
     if (signal_waiter.joinable()) {

@@ -3,6 +3,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -71,12 +73,44 @@ bool query_int(const httplib::Request& req, httplib::Response& res, const char* 
 
 }  // namespace
 
+std::map<std::string, std::string> read_token_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("cannot read token file '" + path + "'");
+  std::map<std::string, std::string> tokens;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::istringstream fields(line);
+    std::string user, token, extra;
+    if (!(fields >> user) || user[0] == '#') continue;
+    if (!(fields >> token) || (fields >> extra))
+      throw std::invalid_argument(path + ":" + std::to_string(number) + ": expected '<user> <token>'");
+    tokens[token] = user;
+  }
+  if (tokens.empty()) throw std::invalid_argument("token file '" + path + "' holds no token");
+  return tokens;
+}
+
+std::string HttpServer::user_of(const std::string& authorization) const {
+  const std::string prefix = "Bearer ";
+  if (authorization.rfind(prefix, 0) != 0) return "";
+  const auto it = options_.tokens.find(authorization.substr(prefix.size()));
+  return it == options_.tokens.end() ? "" : it->second;
+}
+
 HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
     : store_(store), pool_(pool), options_(options), http_(std::make_unique<httplib::Server>()) {
   http_->set_payload_max_length(options_.max_body_bytes);
   const int n = options_.handler_threads;
   http_->new_task_queue = [n] { return new httplib::ThreadPool(std::size_t(n)); };
   // Every response carries a request id; one access-log line per request.
+  // With tokens, every route but health needs a known bearer token.
+  http_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (options_.tokens.empty() || req.path == "/v1/health") return httplib::Server::HandlerResponse::Unhandled;
+    if (!user_of(req.get_header_value("Authorization")).empty()) return httplib::Server::HandlerResponse::Unhandled;
+    error(res, 401, "unauthorized",
+          req.has_header("Authorization") ? "unknown access token" : "this server needs 'Authorization: Bearer <token>'");
+    return httplib::Server::HandlerResponse::Handled;
+  });
   http_->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
     static std::atomic<std::uint64_t> next{1};
     res.set_header("X-Request-Id", std::to_string(next++));
@@ -135,8 +169,8 @@ void HttpServer::routes() {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
-    const std::int64_t id = store_.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(), "",
-                                          int(priority));
+    const std::int64_t id = store_.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
+                                          user_of(req.get_header_value("Authorization")), int(priority));
     pool_.notify();
     reply(res, 201, {{"id", id}, {"status", "queued"}});
   });

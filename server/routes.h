@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -18,7 +19,13 @@ namespace granulab::server {
 struct HttpOptions {
   std::size_t max_body_bytes = 1 << 20;  ///< larger request bodies get 413
   int handler_threads = 8;
+  /// Access tokens (token -> user). When not empty, every route but /v1/health needs
+  /// `Authorization: Bearer <token>`, and jobs record their owner.
+  std::map<std::string, std::string> tokens;
 };
+
+/// Reads a token file: one `<user> <token>` per line; blank lines and lines starting with # are skipped.
+std::map<std::string, std::string> read_token_file(const std::string& path);
 
 class HttpServer {
  public:
@@ -33,6 +40,8 @@ class HttpServer {
 
  private:
   void routes();
+  /// The user of the request's bearer token; "" when tokens are off.
+  std::string user_of(const std::string& authorization) const;
   JobStore& store_;
   WorkerPool& pool_;
   HttpOptions options_;

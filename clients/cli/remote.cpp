@@ -88,6 +88,7 @@ int run_remote(int argc, char** argv) {
   const Args a = parse(argc, argv);
   httplib::Client http(a.server);
   http.set_read_timeout(60, 0);
+  if (const char* token = std::getenv("GRANULAB_TOKEN")) http.set_bearer_token_auth(token);
   if (a.command == "submit") {
     if (a.target.empty()) throw std::invalid_argument("'submit' needs a spec file");
     std::ifstream in(a.target, std::ios::binary);

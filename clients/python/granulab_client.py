@@ -52,7 +52,9 @@ class GranulabError(Exception):
 
 
 class Client:
-    def __init__(self, server=None, timeout=30.0):
+    def __init__(self, server=None, timeout=30.0, token=None):
+        # token: an access token of a server started with --token-file (default: GRANULAB_TOKEN).
+        self.token = token or os.environ.get("GRANULAB_TOKEN")
         server = server or os.environ.get("GRANULAB_SERVER") or DEFAULT_SERVER
         if "://" not in server:
             server = "http://" + server
@@ -68,6 +70,8 @@ class Client:
                 url += "?" + urllib.parse.urlencode(query)
         data = None
         headers = {"Accept": "application/json"}
+        if self.token:
+            headers["Authorization"] = "Bearer " + self.token
         if method == "POST":
             # Always send a body (possibly empty) so Content-Length is set: the server rejects
             # POSTs without one.

@@ -45,7 +45,7 @@ class Daemon : public ::testing::Test {
     fs::create_directories(dir_);
     store_ = std::make_unique<JobStore>((dir_ / "jobs.db").string());
     pool_ = std::make_unique<WorkerPool>(*store_, 1, 1, 0.05);
-    http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4});
+    http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4, {}});
     port_ = http_->bind("127.0.0.1", 0);
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });
@@ -192,7 +192,7 @@ TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
   pool_ = std::make_unique<WorkerPool>(*store_, 2, 1, 0.05);
   http_->stop();
   serving_.join();
-  http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 8});
+  http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 8, {}});
   port_ = http_->bind("127.0.0.1", 0);
   serving_ = std::thread([this] { http_->serve(); });
   client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
@@ -232,6 +232,29 @@ TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
   EXPECT_LE(max_running, 2);
   EXPECT_GE(max_running, 1);
   EXPECT_EQ(get("/v1/jobs?status=succeeded&limit=100")["jobs"].size(), 20u);
+}
+
+// With a token file, every route but health needs a known bearer token, and jobs record their owner.
+TEST_F(Daemon, TokensGuardEveryRouteButHealth) {
+  const fs::path tokens = dir_ / "tokens";
+  std::ofstream(tokens) << "# user token\nalice tok-alice\nbob tok-bob\n";
+  http_->stop();
+  serving_.join();
+  http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4, read_token_file(tokens.string())});
+  port_ = http_->bind("127.0.0.1", 0);
+  serving_ = std::thread([this] { http_->serve(); });
+  client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
+  for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+
+  get("/v1/health", 200);
+  EXPECT_EQ(get("/v1/jobs", 401)["error"]["code"], "unauthorized");
+  post("/v1/jobs", kTwoCube, 401);
+  client_->set_bearer_token_auth("tok-mallory");
+  get("/v1/jobs", 401);
+  client_->set_bearer_token_auth("tok-alice");
+  const std::int64_t id = post("/v1/jobs", kTwoCube, 201)["id"];
+  EXPECT_EQ(get("/v1/jobs/" + std::to_string(id))["owner"], "alice");
+  EXPECT_THROW(read_token_file((dir_ / "missing").string()), std::invalid_argument);
 }
 
 // The CLI's remote commands against this daemon: submit, wait, results, list, cancel, status.
