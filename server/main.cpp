@@ -1,6 +1,7 @@
-// granulabd: the lab server. Keeps jobs and results in an SQLite file, runs them on a bounded pool,
-// serves the HTTP API of CONTRACT.md. SIGTERM or SIGINT: stop accepting requests, interrupt running
-// jobs (they stay `running` in the store and are re-queued at the next start), exit cleanly.
+// granulabd: the lab server. Keeps jobs and results in an SQLite file, runs them on a bounded pool
+// (workers x engine threads never exceed the cores), serves the HTTP API of CONTRACT.md. SIGTERM or
+// SIGINT: stop accepting requests, interrupt running jobs and put them back in the queue, exit cleanly.
+// After a kill -9, jobs found `running` at the next start are re-queued the same way.
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -65,9 +66,13 @@ int main(int argc, char** argv) {
       else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
     }
     // Workers x engine threads never exceed the cores.
-    if (threads == 0) threads = std::max(1, cores / workers);
-    if (workers * threads > cores)
-      spdlog::warn("{} workers x {} threads exceed the {} cores", workers, threads, cores);
+    const int fair = std::max(1, cores / workers);
+    if (threads == 0) threads = fair;
+    if (threads > fair) {
+      spdlog::warn("{} workers x {} threads would exceed the {} cores: using {} thread(s) per job", workers, threads,
+                   cores, fair);
+      threads = fair;
+    }
 
     // Signals go to one waiting thread, not to whichever thread happens to run.
     sigset_t signals;
@@ -98,6 +103,8 @@ int main(int argc, char** argv) {
                  workers, threads, options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)");
     http.serve();
     pool.stop();
+    // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.
+    if (const std::size_t n = store.requeue_running()) spdlog::info("re-queued {} interrupted job(s)", n);
     if (signal_waiter.joinable()) {
       pthread_kill(signal_waiter.native_handle(), SIGTERM);  // wakes sigwait if we stopped for another reason
       signal_waiter.join();

@@ -22,8 +22,8 @@ class WorkerPool {
   void start();
   /// A job was submitted: wake an idle worker.
   void notify();
-  /// Stops taking jobs; running jobs are interrupted and left `running` in the store, so the next
-  /// start re-queues them (nothing computed for them is kept, nothing submitted is lost).
+  /// Stops taking jobs; running jobs are interrupted and left `running` in the store for the caller
+  /// (granulabd re-queues them; nothing submitted is lost, their partial work is).
   void stop();
 
   int running() const { return running_.load(); }

@@ -81,6 +81,20 @@ class CrashTest(unittest.TestCase):
             kinds = [k for (k,) in db.execute("SELECT kind FROM events")]
         self.assertIn("requeued", kinds)
 
+    def test_sigterm_requeues_the_running_job(self):
+        self.proc = self.start()
+        job_id = self.client.submit(SPEC)
+        deadline = time.time() + 30
+        while self.client.status(job_id)["status"] != "running" and time.time() < deadline:
+            time.sleep(0.01)
+        self.proc.send_signal(signal.SIGTERM)
+        self.assertEqual(self.proc.wait(timeout=30), 0)  # stops cleanly, within a progress interval
+        with sqlite3.connect(self.db) as db:
+            status = db.execute("SELECT status FROM jobs WHERE id = ?", (job_id,)).fetchone()[0]
+        self.assertEqual(status, "queued")
+        self.proc = self.start()
+        self.assertEqual(self.client.wait(job_id, timeout=120)["status"], "succeeded")
+
 
 if __name__ == "__main__":
     unittest.main()

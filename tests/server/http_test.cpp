@@ -146,6 +146,19 @@ TEST_F(Daemon, CrystalJobStoresSnapshots) {
   get("/v1/jobs/" + std::to_string(id) + "/snapshots/7", 404);
 }
 
+// A job whose run throws becomes `failed` with the message, and the daemon keeps serving.
+TEST_F(Daemon, AThrowingJobFailsWithItsMessage) {
+  pool_->start();
+  // Valid spec, impossible crystal: knocking out both grains of a 2-grain crystal leaves nothing to load.
+  const std::int64_t id = post("/v1/jobs", R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+      "crystal": {"grains_x": 2, "rows_z": 1, "layers_y": 1, "knockout": [0, 1]}})", 201)["id"];
+  const json done = wait(id);
+  EXPECT_EQ(done["status"], "failed");
+  EXPECT_NE(done["error"].get<std::string>().find("fewer than two grains"), std::string::npos) << done.dump();
+  EXPECT_EQ(get("/v1/health")["status"], "ok");
+  EXPECT_EQ(post("/v1/jobs", kTwoCube, 201)["status"], "queued");
+}
+
 // With the pool not started, jobs stay queued: the state rules can be checked without races.
 TEST_F(Daemon, BadRequestsGetTheirDocumentedStatus) {
   struct Case {
