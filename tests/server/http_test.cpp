@@ -144,6 +144,13 @@ TEST_F(Daemon, CrystalJobStoresSnapshots) {
   EXPECT_EQ(s1["grains"]["id"].size(), 16u);
   EXPECT_NEAR(s1["strain"].get<double>(), 2e-4, 1e-12);
   get("/v1/jobs/" + std::to_string(id) + "/snapshots/7", 404);
+  // The same as running the spec directly (the engine gives the same answer for any thread count).
+  const api::RunOutput direct = api::run_spec(api::parse_spec_text(kCrystal));
+  auto csv = client_->Get(("/v1/jobs/" + std::to_string(id) + "/curve?format=csv").c_str());
+  ASSERT_TRUE(csv);
+  EXPECT_EQ(csv->body, direct.curve_csv);
+  ASSERT_EQ(direct.snapshots.size(), 2u);
+  EXPECT_EQ(s1, direct.snapshots[1].second);
 }
 
 // A job whose run throws becomes `failed` with the message, and the daemon keeps serving.
