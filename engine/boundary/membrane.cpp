@@ -7,7 +7,8 @@
 
 namespace granulab {
 
-Membrane::Membrane(double pressure, double cell) : pressure_(pressure), cell_(cell) {}
+Membrane::Membrane(double pressure, double cell, double bridge_span, double bridge_depth)
+    : pressure_(pressure), cell_(cell), bridge_span_(bridge_span), bridge_depth_(bridge_depth) {}
 
 void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres, std::size_t per_body,
                      double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque) {
@@ -37,6 +38,8 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
       stats_.area[2 * axis + side] = a.area[side];
       stats_.load_centre[2 * axis + side] = a.load_centre[side];
     }
+    stats_.bridged_area += a.bridged_area;
+    stats_.max_depth = std::max(stats_.max_depth, a.max_depth);
   }
   stats_.grains = std::size_t(std::count(touched.begin(), touched.end(), true));
 }
@@ -76,13 +79,21 @@ void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vec
     }
   }
 
+  a.bridged_area = a.max_depth = 0;
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? 1.0 : -1.0;
     double area = 0, weighted = 0;
+    local_envelope(a.height[side], nu, nv, a);
     for (int iu = 0; iu < nu; ++iu) {
       for (int iv = 0; iv < nv; ++iv) {
         const std::size_t k = std::size_t(iu) * nv + iv;
         if (a.owner[side][k] == kNone) continue;
+        const double depth = a.envelope[k] - a.height[side][k];
+        if (depth > bridge_depth_ && bridge_span_ > 0) {
+          a.bridged_area += cell_area;
+          continue;
+        }
+        a.max_depth = std::max(a.max_depth, depth);
         Vec3 f = Vec3::Zero();
         f[axis] = -sign * pressure_ * cell_area;
         Vec3 point;
@@ -100,6 +111,42 @@ void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vec
     a.area[side] = area;
     a.load_centre[side] = area > 0 ? weighted / area : 0;
   }
+}
+
+namespace {
+
+// out[k] = op over the cells within r of k along one axis of an nu x nv map (0: u, 1: v); cells
+// beyond the map are empty (-inf), as the sample's silhouette touches the map's border.
+template <class Op>
+void running(const std::vector<double>& in, std::vector<double>& out, int nu, int nv, int r, int along, Op op) {
+  out.resize(in.size());
+  const double outside = -std::numeric_limits<double>::infinity();
+  for (int iu = 0; iu < nu; ++iu)
+    for (int iv = 0; iv < nv; ++iv) {
+      const int at = along == 0 ? iu : iv, n = along == 0 ? nu : nv;
+      double m = at - r < 0 || at + r > n - 1 ? op(in[std::size_t(iu) * nv + iv], outside) : in[std::size_t(iu) * nv + iv];
+      if (along == 0)
+        for (int i = std::max(0, iu - r); i <= std::min(nu - 1, iu + r); ++i) m = op(m, in[std::size_t(i) * nv + iv]);
+      else
+        for (int j = std::max(0, iv - r); j <= std::min(nv - 1, iv + r); ++j) m = op(m, in[std::size_t(iu) * nv + j]);
+      out[std::size_t(iu) * nv + iv] = m;
+    }
+}
+
+}  // namespace
+
+// The surface the bag lies on: the morphological closing of the height map by a flat square of
+// half-width bridge_span (the highest surface around, then the lowest of those): it fills pits and holes
+// narrower than the square and leaves plateaus, slopes and the fall-off at the sample's edges
+// (next to empty cells) as they are. Separable passes, so the cost grows with the span, not its square.
+void Membrane::local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const {
+  const int r = bridge_span_ > 0 ? int(std::ceil(bridge_span_ / cell_)) : 0;
+  auto max_op = [](double x, double y) { return std::max(x, y); };
+  auto min_op = [](double x, double y) { return std::min(x, y); };
+  running(height, a.row_max, nu, nv, r, 1, max_op);
+  running(a.row_max, a.envelope, nu, nv, r, 0, max_op);
+  running(a.envelope, a.row_max, nu, nv, r, 1, min_op);
+  running(a.row_max, a.envelope, nu, nv, r, 0, min_op);
 }
 
 }  // namespace granulab

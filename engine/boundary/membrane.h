@@ -7,6 +7,11 @@
 // Why the face normal and not the local slope of the height map: opposite faces then see the same
 // projected footprint, so the bag exerts no net force on the sample, as a closed bag must not; a
 // local slope measured on the faceted, jagged ends of the sample pushed the whole sample into one wall.
+// Holes: a bag stretched over the surface does not reach into a hole (a knocked-out region); it spans
+// it. A cell whose outermost sphere lies more than `bridge_depth` below the surface the bag lies on
+// (the height map closed over `bridge_span`: holes and pits narrower than that filled) is bridged and
+// receives no pressure, like an empty cell; otherwise the bag would
+// push the grains seen through the hole and drive them through it, with nothing to stop them.
 #pragma once
 
 #include <cstdint>
@@ -22,12 +27,15 @@ struct MembraneStats {
   /// the area each receives (m). The lever arm of the bag's load on the packing.
   double load_centre[4] = {0, 0, 0, 0};
   std::size_t grains = 0;         ///< grains receiving a membrane force
+  double bridged_area = 0;        ///< area of bridged cells, all faces (m^2)
+  double max_depth = 0;           ///< deepest pressed cell below the closed surface (m)
 };
 
 class Membrane {
  public:
-  /// `pressure` p0 (Pa); `cell` height-map resolution (m).
-  Membrane(double pressure, double cell);
+  /// `pressure` p0 (Pa); `cell` height-map resolution (m); `bridge_span`, `bridge_depth` (m): see above
+  /// (a span of 0 bridges nothing).
+  Membrane(double pressure, double cell, double bridge_span = 0, double bridge_depth = 0);
 
   /// Recomputes the per-body forces and torques (overwriting `force`, `torque`) from the sphere
   /// centres (body-major, `per_body` spheres of radius `radius` each) and body centres.
@@ -45,12 +53,14 @@ class Membrane {
     std::vector<std::uint32_t> owner[2];
     std::vector<Vec3> force, torque;
     std::vector<bool> touched;
-    double area[2] = {0, 0}, load_centre[2] = {0, 0};
+    std::vector<double> envelope, row_max;  // the closed height map, and a pass of it
+    double area[2] = {0, 0}, load_centre[2] = {0, 0}, bridged_area = 0, max_depth = 0;
   };
+  void local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const;
   void map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
                 const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const;
 
-  double pressure_, cell_;
+  double pressure_, cell_, bridge_span_, bridge_depth_;
   MembraneStats stats_;
   AxisScratch scratch_[2];
 };

@@ -59,7 +59,8 @@ CrystalCompression::CrystalCompression(const CrystalParams& params)
       grain_(params.grain),
       lattice_(build_crystal(lattice_geometry(params))),
       world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_)),
-      membrane_(params.confining_pressure, grain_.diameter() / 2) {
+      membrane_(params.confining_pressure, grain_.diameter() / 2, params.bridge_span * params.grain.size,
+                params.bridge_depth * params.grain.size) {
   if (params.grain.shape != Shape::rhombic_dodecahedron)
     throw std::invalid_argument("crystal_compression needs rhombic_dodecahedron grains");
   if (!(prestrain_for(params) < 0.1)) throw std::invalid_argument("confining pressure too high for the modulus");

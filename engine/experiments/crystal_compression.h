@@ -37,6 +37,8 @@ struct CrystalParams {
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};
   double time_step_factor = 0.2;       ///< dt / t0
   double skin_factor = 0.03;           ///< skin / d (see api/spec.cpp)
+  double bridge_span = 1.5;            ///< the bag spans holes: see Membrane; in grain sizes a
+  double bridge_depth = 0.5;           ///< in grain sizes a (layers are a/sqrt3 = 0.577 a apart along y)
   int membrane_interval = 200;         ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
   double equilibrium_tolerance = 0.01; ///< confinement: |wall stress - p0| / p0 (-)
   double kinetic_tolerance = 1e-4;     ///< confinement: kinetic / elastic energy (-)
@@ -99,6 +101,7 @@ class CrystalCompression {
 
   World& world() { return world_; }
   const CrystalLattice& lattice() const { return lattice_; }
+  const MembraneStats& membrane_stats() const { return membrane_.stats(); }
   const std::vector<std::uint32_t>& grain_ids() const { return ids_; }
 
   /// Phase 2 alone (normally called by run()).
