@@ -783,6 +783,83 @@ INSTANTIATE_TEST_SUITE_P(Membrane, MembraneTest,
                                          MembraneCase{12, 20, 30, 0.1},
                                          MembraneCase{40, 12, 30, 0.3}));  // wide in x: y faces dominate
 
+// Bridging: the bag spans a pit in the +y face (bodies removed from the top two body layers over a
+// square of 4 x 4 bodies, i.e. 4 mm wide and 2 mm = 2 r deep) but follows the flat face elsewhere.
+struct PittedCloud {
+  std::vector<Vec3> bodies, spheres;
+  std::vector<bool> pit_bottom;  // the bodies seen at the bottom of the pit
+  static constexpr double kPitWidth = 4e-3, kPitDepth = 2e-3;
+  PittedCloud(bool pitted) {
+    const SphereCloud box(16, 16, 24);  // bodies 8 x 8 x 12, body-major in (bx, by, bz) order
+    std::size_t b = 0;
+    for (int bx = 0; bx < 8; ++bx)
+      for (int by = 0; by < 8; ++by)
+        for (int bz = 0; bz < 12; ++bz, ++b) {
+          const bool under_pit = bx >= 2 && bx < 6 && bz >= 4 && bz < 8;
+          if (pitted && under_pit && by >= 6) continue;
+          bodies.push_back(box.bodies[b]);
+          pit_bottom.push_back(pitted && under_pit && by == 5);
+          for (std::size_t k = 0; k < SphereCloud::kPerBody; ++k) spheres.push_back(box.spheres[b * SphereCloud::kPerBody + k]);
+        }
+  }
+  MembraneStats apply(Membrane& m, std::vector<Vec3>& force) const {
+    std::vector<Vec3> torque(bodies.size());
+    force.assign(bodies.size(), Vec3::Zero());
+    m.apply(bodies, spheres, SphereCloud::kPerBody, 1e-3, force, torque);
+    return m.stats();
+  }
+};
+
+TEST(MembraneBridging, AFlatFaceIsNotBridgedAndGetsTheSameForces) {
+  // Depth 1.5 r: above the relief of the overlapping caps (< 0.1 r) and of the silhouette's rounded
+  // edges, which the closing keeps because the cells beyond the map count as empty.
+  const PittedCloud box(false);
+  Membrane plain(3e4, 0.3e-3), bridging(3e4, 0.3e-3, 3e-3, 1.5e-3);
+  std::vector<Vec3> f_plain, f_bridging;
+  box.apply(plain, f_plain);
+  const MembraneStats st = box.apply(bridging, f_bridging);
+  EXPECT_EQ(st.bridged_area, 0);
+  EXPECT_LT(st.max_depth, 0.1e-3);  // measured 0.06 r
+  for (std::size_t b = 0; b < f_plain.size(); ++b) EXPECT_EQ(f_bridging[b], f_plain[b]) << "body " << b;
+}
+
+TEST(MembraneBridging, ThePitBottomIsPushedWithoutBridgingAndNotWithIt) {
+  const PittedCloud pitted(true);
+  const double cell = 0.3e-3, p = 3e4;
+  Membrane plain(p, cell), bridging(p, cell, 3e-3, 1.5e-3);  // span 3 mm > the pit's half-width of 2 mm
+  std::vector<Vec3> f_plain, f_bridging;
+  const MembraneStats st_plain = pitted.apply(plain, f_plain);
+  const MembraneStats st = pitted.apply(bridging, f_bridging);
+  int pushed_plain = 0, pushed_bridging = 0;
+  for (std::size_t b = 0; b < pitted.bodies.size(); ++b) {
+    if (!pitted.pit_bottom[b]) continue;
+    pushed_plain += f_plain[b].y() < 0;
+    pushed_bridging += f_bridging[b].y() != 0;
+  }
+  EXPECT_GT(pushed_plain, 0);  // the test means something: without bridging the bag reaches the bottom
+  EXPECT_EQ(pushed_bridging, 0);
+  // The bridged area is the part of the pit not covered by the caps of the rim's spheres, which overhang
+  // the pit's edge by at most r = 1 mm: between (4 - 2)^2 and 4^2 mm^2; it leaves the +y face's area.
+  EXPECT_GE(st.bridged_area, std::pow(PittedCloud::kPitWidth - 2e-3, 2));
+  EXPECT_LE(st.bridged_area, std::pow(PittedCloud::kPitWidth, 2));
+  EXPECT_NEAR(st_plain.area[2] - st.area[2], st.bridged_area, 1e-9 * st.bridged_area);
+  // The force on the +y side is still p times the pressed area.
+  double total = 0;
+  for (const Vec3& f : f_bridging) total += f.y() < 0 ? f.y() : 0;
+  EXPECT_NEAR(total, -p * st.area[2], 1e-9 * p * st.area[2]);
+}
+
+TEST(MembraneBridging, APitWiderThanTheSpanIsFollowed) {
+  // Span 1 mm: the closing fills nothing wider than 2 mm, so the 4 mm pit's bottom is pushed.
+  const PittedCloud pitted(true);
+  Membrane narrow(3e4, 0.3e-3, 1e-3, 1.5e-3);
+  std::vector<Vec3> f;
+  pitted.apply(narrow, f);
+  int pushed = 0;
+  for (std::size_t b = 0; b < pitted.bodies.size(); ++b) pushed += pitted.pit_bottom[b] && f[b].y() < 0;
+  EXPECT_GT(pushed, 0);
+}
+
 TEST(Membrane, EmptyCloudClearsForcesAndStats) {
   Membrane m(1e4, 1e-3);
   std::vector<Vec3> f(2, Vec3::Ones()), t(2, Vec3::Ones());
