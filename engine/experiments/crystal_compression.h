@@ -36,7 +36,7 @@ struct CrystalParams {
   int curve_points = 400;
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};
   double time_step_factor = 0.2;       ///< dt / t0
-  double skin_factor = 0.03;           ///< skin / d (see api/spec.cpp)
+  double skin_factor = 0.01;           ///< skin / d (see api/spec.cpp)
   double bridge_span = 1.5;            ///< the bag spans holes: see Membrane; in grain sizes a
   double bridge_depth = 0.5;           ///< in grain sizes a (layers are a/sqrt3 = 0.577 a apart along y)
   int membrane_interval = 200;         ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
