@@ -109,7 +109,8 @@ Spec parse_spec(const nlohmann::json& document) {
   // 0.75); a skin beyond that makes every contact drag its neighbours along (5x slower, measured). Once
   // faces slide, their sphere grids no longer line up and a sphere has ~ 2 pi d skin / s^2 candidates
   // across the face (3 at 0.03 d, 1 at 0.01 d), while the platen's motion triggers a rebuild every skin/2
-  // of travel: 0.01 d balances the two (reference crystal at 1 % strain: 2.5x faster than 0.03 d).
+  // of travel: 0.01 d balances the two (reference crystal: 0.0039 s/step to 5 % strain, 0.0068 at 0.03 d;
+  // bench/README.md).
   const double kappa = grain.number("overlap", 0.75, 0, 0.95);  // read again, identically, below
   const double neighbour_gap = std::sqrt(1 + (1 - kappa) * (1 - kappa)) - 1;
   const double skin_factor = run.number("skin_factor", cube ? 0.1 : std::min(0.01, 0.9 * neighbour_gap), 0, 1, true);
