@@ -60,6 +60,7 @@ void read_crystal(const nlohmann::json& document, CrystalParams& c, ObjectReader
   c.max_strain = loading.number("max_strain", c.max_strain, 0, 0.5, true);
   c.rate_number = loading.number("rate_number", c.rate_number, 1e-8, 0.1);
   c.mass_scaling = loading.number("mass_scaling", c.mass_scaling, 1, 1e8);
+  c.wall_friction = loading.number("wall_friction", c.material.friction, 0, 10);
   c.curve_points = int(output.integer("curve_points", c.curve_points, 1, 100000));
   // By default, the paper's snapshot strains that the run reaches; explicit ones must be reachable.
   std::vector<double> reachable;

@@ -14,6 +14,7 @@ struct Wall {
   Vec3 velocity = Vec3::Zero();  ///< prescribed (m/s)
   Vec3 force = Vec3::Zero();     ///< force received from the spheres in the last step (N)
   std::size_t contacts = 0;      ///< spheres touching it in the last step
+  double friction = -1;          ///< Coulomb coefficient on this wall; negative: the contact law's
 
   /// Signed distance of p from the plane, positive on the domain side (m).
   double distance(const Vec3& p) const { return (p - point).dot(normal); }

@@ -78,8 +78,10 @@ CrystalCompression::CrystalCompression(const CrystalParams& params)
   world_.compute_forces();
   double lo = 1e300, hi = -1e300;
   for (const Vec3& x : world_.sphere_positions()) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
-  top_ = world_.add_wall(Wall{Vec3(0, 0, hi + grain_.radius()), -Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});
-  bottom_ = world_.add_wall(Wall{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ(), Vec3::Zero(), Vec3::Zero()});
+  Wall top{Vec3(0, 0, hi + grain_.radius()), -Vec3::UnitZ()}, bottom{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ()};
+  top.friction = bottom.friction = params.wall_friction;
+  top_ = world_.add_wall(top);
+  bottom_ = world_.add_wall(bottom);
 
   cross_section_ = lattice_.extent.x() * lattice_.extent.y();
   t0_ = contact_time_scale(grain_, params.material.youngs_modulus, density);

@@ -33,6 +33,7 @@ struct CrystalParams {
   double max_strain = 0.1;           ///< compression stops here (-)
   double rate_number = 1e-5;         ///< R (-); converged default, see README "Quasi-static rate"
   double mass_scaling = 1.0;         ///< density factor (-)
+  double wall_friction = -1;         ///< platens' Coulomb coefficient; negative: material.friction
   int curve_points = 400;
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};
   double time_step_factor = 0.2;       ///< dt / t0

@@ -218,7 +218,9 @@ void World::wall_forces() {
     const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
     const Vec3 arm = c - bodies_.position[b];
     const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
-    const ContactForce cf = contact_force(law_, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
+    ContactLaw law = law_;
+    if (w.friction >= 0) law.friction = w.friction;
+    const ContactForce cf = contact_force(law, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
     bodies_.force[b] += cf.force;
     bodies_.torque[b] += arm.cross(cf.force);
     w.force -= cf.force;

@@ -114,6 +114,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   // rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
   expected["loading"]["rate_number"] = 1e-5;
   expected["crystal"]["knockout_regions"] = json::array();
+  expected["loading"]["wall_friction"] = 0.35;  // an extension: the platens' f, by default the grains'
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
   json got = spec.normalized;
   // Engine knobs that are not in the contract example.
@@ -236,6 +237,8 @@ const std::vector<ErrorCase> kErrorCases = {
      "[1, 100000]"},
     {"ThreadsNegative", R"({"run": {"threads": -1}})", "out_of_range", "run.threads", "[0, 256]"},
     {"LabelTooLong", R"({"label": ")" + std::string(201, 'x') + R"("})", "out_of_range", "label", "200"},
+    {"WallFrictionNegative", R"({"experiment": "crystal_compression", "loading": {"wall_friction": -0.1}})",
+     "out_of_range", "loading.wall_friction", "[0, 10]"},
     {"KnockoutNegative", R"({"experiment": "crystal_compression", "crystal": {"knockout": [-1]}})",
      "out_of_range", "crystal.knockout", "[0, 863]"},
     {"SnapshotStrainTooLarge",
@@ -418,6 +421,12 @@ namespace {
 TEST(SpecDefaults, DefaultSnapshotsStopAtMaxStrain) {
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02}})");
   EXPECT_EQ(spec.crystal.snapshot_strains, (std::vector<double>{0.0, 0.01, 0.02}));
+}
+
+// The platens' friction follows the grains' unless given.
+TEST(SpecDefaults, WallFrictionFollowsMaterialFriction) {
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "material": {"friction": 0.2}})").crystal.wall_friction, 0.2);
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"wall_friction": 1.5}})").crystal.wall_friction, 1.5);
 }
 
 }  // namespace

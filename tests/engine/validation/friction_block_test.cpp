@@ -14,9 +14,12 @@ namespace {
 struct Incline {
   World world;
   BodyId block;
-  Incline(double theta, double f)
+  /// `wall_f` < 0: the wall uses the contact law's f.
+  Incline(double theta, double f, double wall_f = -1)
       : world(make_world(theta, f)), block(world.add_grain(Vec3(0, 0, 0.00499), Quat::Identity(), 1200)) {
-    world.add_wall(Wall{});
+    Wall wall;
+    wall.friction = wall_f;
+    world.add_wall(wall);
     world.compute_forces();
   }
   static World make_world(double theta, double f) {
@@ -62,6 +65,25 @@ TEST(FrictionBlock, SlidesWithCoulombAccelerationAboveLimit) {
     EXPECT_NEAR(a, expected, 1e-3 * expected) << "tan theta " << tan_theta;
     EXPECT_EQ(incline.world.contact_stats().wall_contacts, 9u);
   }
+}
+
+// A wall's own coefficient replaces the law's on that wall (the crystal's loading.wall_friction): the
+// block slides at the acceleration of the wall's f, and sticks where the law's f alone would let it slide.
+TEST(FrictionBlock, WallFrictionOverridesTheLaw) {
+  const double g = 9.81, theta = std::atan(0.6);
+  Incline sliding(theta, 0.3, 0.45);
+  sliding.run(5000);
+  const double t1 = sliding.world.time(), v1 = sliding.vx();
+  sliding.run(5000);
+  const double a = (sliding.vx() - v1) / (sliding.world.time() - t1);
+  const double expected = g * (std::sin(theta) - 0.45 * std::cos(theta));
+  EXPECT_NEAR(a, expected, 1e-3 * expected);
+
+  Incline sticking(std::atan(0.4), 0.3, 0.5);  // slides at f = 0.3 (test above), sticks at 0.5
+  sticking.run(20000);
+  const double x1 = sticking.world.bodies().position[sticking.block].x();
+  sticking.run(20000);
+  EXPECT_LT(std::abs(sticking.world.bodies().position[sticking.block].x() - x1), 1e-9);
 }
 
 }  // namespace
