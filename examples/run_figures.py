@@ -7,7 +7,8 @@ usage: python3 examples/run_figures.py FIGURE [--max-strain S] [--out DIR] [--th
 Each spec runs with `build/granulab run` (sequentially; each uses all cores unless --threads) into
 DIR/<spec name>/, then DIR/<figure>.csv gathers every curve (long format: spec,strain,...) and, when
 matplotlib is available (Debian: python3-matplotlib, run with /usr/bin/python3), DIR/<figure>.png plots them.
---max-strain overrides loading.max_strain for a shorter run (the full 10 % takes 45 min per crystal on 2 cores).
+--max-strain overrides loading.max_strain for a shorter run (the full 10 % takes about 30 min for the reference
+crystal on 2 cores).
 --reuse skips the specs whose DIR/<spec name>/summary.json already exists (gather and plot finished runs).
 For crystal figures DIR/<figure>_summary.csv (also printed) lists per spec the first yield and the peak of
 the deviator and of the total axial stress over p0, the peak of the curve smoothed over 0.5 % strain windows
@@ -55,7 +56,7 @@ def summarise(results, out_dir, figure):
     """Strength measures per crystal spec and their ratios to the figure's first spec (the reference)."""
     rows = []
     for name, curve in results:
-        if "deviator" not in curve[0]:
+        if not curve or "deviator" not in curve[0]:
             return
         summary = json.load(open(os.path.join(out_dir, name, "summary.json")))
         p0 = summary["spec"]["loading"]["confining_pressure"]
@@ -64,8 +65,10 @@ def summarise(results, out_dir, figure):
         # Smoothed: mean deviator over windows of 0.5 % strain (the curve's stick-slip drops average out).
         windows = {}
         for e, d in zip(strain, dev):
-            windows.setdefault(int(e / 0.005), []).append(d)
-        smooth = [(0.005 * (k + 0.5), sum(v) / len(v)) for k, v in sorted(windows.items())]
+            windows.setdefault(int(e / 0.005), []).append((e, d))
+        # Mean strain and deviator per window; a last window with fewer than 3 rows is left out.
+        smooth = [(sum(e for e, _ in v) / len(v), sum(d for _, d in v) / len(v))
+                  for _, v in sorted(windows.items()) if len(v) >= 3] or [(strain[-1], dev[-1])]
         smooth_strain, smooth_peak = max(smooth, key=lambda t: t[1])
         rows.append({
             "spec": name, "grains": summary["grains"], "p0": p0, "max_strain": strain[-1],
@@ -156,8 +159,8 @@ def main():
             for name, rows in results:
                 for r in rows:
                     writer.writerow([name] + [r.get(k, "") for k in header])
-        summarise(results, args.out, figure)
         plot(figure, results, args.out)
+        summarise(results, args.out, figure)
 
 
 if __name__ == "__main__":

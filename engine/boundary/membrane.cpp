@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <omp.h>
+#include <queue>
+#include <utility>
 
 namespace granulab {
 
@@ -115,16 +117,14 @@ void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vec
 
 namespace {
 
-// out[k] = op over the cells within r of k along one axis of an nu x nv map (0: u, 1: v); cells
-// beyond the map are empty (-inf), as the sample's silhouette touches the map's border.
+// out[k] = op over the cells within r of k along one axis of an nu x nv map (0: u, 1: v), the window
+// cut at the map's border.
 template <class Op>
 void running(const std::vector<double>& in, std::vector<double>& out, int nu, int nv, int r, int along, Op op) {
   out.resize(in.size());
-  const double outside = -std::numeric_limits<double>::infinity();
   for (int iu = 0; iu < nu; ++iu)
     for (int iv = 0; iv < nv; ++iv) {
-      const int at = along == 0 ? iu : iv, n = along == 0 ? nu : nv;
-      double m = at - r < 0 || at + r > n - 1 ? op(in[std::size_t(iu) * nv + iv], outside) : in[std::size_t(iu) * nv + iv];
+      double m = in[std::size_t(iu) * nv + iv];
       if (along == 0)
         for (int i = std::max(0, iu - r); i <= std::min(nu - 1, iu + r); ++i) m = op(m, in[std::size_t(i) * nv + iv]);
       else
@@ -135,18 +135,62 @@ void running(const std::vector<double>& in, std::vector<double>& out, int nu, in
 
 }  // namespace
 
-// The surface the bag lies on: the morphological closing of the height map by a flat square of
-// half-width bridge_span (the highest surface around, then the lowest of those): it fills pits and holes
-// narrower than the square and leaves plateaus, slopes and the fall-off at the sample's edges
-// (next to empty cells) as they are. Separable passes, so the cost grows with the span, not its square.
+// The surface the bag lies on. Two bounds, the lower of which counts:
+//  - the closing of the height map by a flat square of half-width r = bridge_span (the highest surface
+//    around, then the lowest of those), which fills pits and holes narrower than the square (2 r + 1
+//    cells) and leaves wider dents as they are: a bag follows a wide dent;
+//  - the map with its enclosed pits filled (priority flood from the map's border: a cell's level is the
+//    lowest, over all paths to the border, of the highest surface on the path), which leaves alone bays
+//    open to the outside, such as the sample's corners and the notches of its jagged edges: a bag wraps
+//    around those. Empty cells count as infinitely deep, so a hole seen through is enclosed by its rim.
+// The closing is padded with r empty cells on every side so that windows at the map's border are whole.
 void Membrane::local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const {
+  constexpr double kEmpty = -std::numeric_limits<double>::infinity();
   const int r = bridge_span_ > 0 ? int(std::ceil(bridge_span_ / cell_)) : 0;
+  const int pu = nu + 2 * r, pv = nv + 2 * r;
+  a.padded.assign(std::size_t(pu) * pv, kEmpty);
+  for (int iu = 0; iu < nu; ++iu)
+    std::copy_n(height.begin() + std::size_t(iu) * nv, nv, a.padded.begin() + std::size_t(iu + r) * pv + r);
   auto max_op = [](double x, double y) { return std::max(x, y); };
   auto min_op = [](double x, double y) { return std::min(x, y); };
-  running(height, a.row_max, nu, nv, r, 1, max_op);
-  running(a.row_max, a.envelope, nu, nv, r, 0, max_op);
-  running(a.envelope, a.row_max, nu, nv, r, 1, min_op);
-  running(a.row_max, a.envelope, nu, nv, r, 0, min_op);
+  running(a.padded, a.pass, pu, pv, r, 1, max_op);
+  running(a.pass, a.padded, pu, pv, r, 0, max_op);
+  running(a.padded, a.pass, pu, pv, r, 1, min_op);  // a map cell's window never reaches past the padding
+  running(a.pass, a.padded, pu, pv, r, 0, min_op);
+
+  // Priority flood, lowest level first, from every border cell.
+  a.envelope.assign(height.size(), kEmpty);
+  std::vector<bool>& done = a.flooded;
+  done.assign(height.size(), false);
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue(std::greater<Item>(), std::move(a.heap));
+  for (int iu = 0; iu < nu; ++iu)
+    for (int iv = 0; iv < nv; ++iv)
+      if (iu == 0 || iv == 0 || iu == nu - 1 || iv == nv - 1) {
+        const std::size_t k = std::size_t(iu) * nv + iv;
+        queue.emplace(height[k], k);
+        done[k] = true;
+      }
+  while (!queue.empty()) {
+    const auto [level, k] = queue.top();
+    queue.pop();
+    a.envelope[k] = level;
+    const int iu = int(k / nv), iv = int(k % nv);
+    const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+    for (int n = 0; n < 4; ++n) {
+      const int ju = iu + du[n], jv = iv + dv[n];
+      if (ju < 0 || jv < 0 || ju >= nu || jv >= nv) continue;
+      const std::size_t m = std::size_t(ju) * nv + jv;
+      if (done[m]) continue;
+      done[m] = true;
+      queue.emplace(std::max(level, height[m]), m);
+    }
+  }
+  for (int iu = 0; iu < nu; ++iu)
+    for (int iv = 0; iv < nv; ++iv) {
+      double& e = a.envelope[std::size_t(iu) * nv + iv];
+      e = std::min(e, a.padded[std::size_t(iu + r) * pv + iv + r]);
+    }
 }
 
 }  // namespace granulab

@@ -9,12 +9,14 @@
 // local slope measured on the faceted, jagged ends of the sample pushed the whole sample into one wall.
 // Holes: a bag stretched over the surface does not reach into a hole (a knocked-out region); it spans
 // it. A cell whose outermost sphere lies more than `bridge_depth` below the surface the bag lies on
-// (the height map closed over `bridge_span`: holes and pits narrower than that filled) is bridged and
-// receives no pressure, like an empty cell; otherwise the bag would
-// push the grains seen through the hole and drive them through it, with nothing to stop them.
+// (enclosed pits and holes up to about twice `bridge_span` wide filled; see local_envelope) is bridged and receives no pressure, like an empty cell; otherwise the bag would push
+// the grains seen through the hole and drive them through it, with nothing to stop them. The bag's load
+// over a hole is dropped, not passed on to the hole's rim: where the two opposite faces bridge different
+// areas, the bag exerts a net force of p0 times the difference (reported per face in the stats' areas).
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine/core/types.h"
@@ -53,7 +55,9 @@ class Membrane {
     std::vector<std::uint32_t> owner[2];
     std::vector<Vec3> force, torque;
     std::vector<bool> touched;
-    std::vector<double> envelope, row_max;  // the closed height map, and a pass of it
+    std::vector<double> envelope, padded, pass;  // the bag's surface; the padded closing and a pass of it
+    std::vector<bool> flooded;
+    std::vector<std::pair<double, std::size_t>> heap;  // the flood's queue storage, reused
     double area[2] = {0, 0}, load_centre[2] = {0, 0}, bridged_area = 0, max_depth = 0;
   };
   void local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const;

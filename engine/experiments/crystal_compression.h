@@ -39,7 +39,7 @@ struct CrystalParams {
   double time_step_factor = 0.2;       ///< dt / t0
   double skin_factor = 0.01;           ///< skin / d (see api/spec.cpp)
   double bridge_span = 1.5;            ///< the bag spans holes: see Membrane; in grain sizes a
-  double bridge_depth = 0.5;           ///< in grain sizes a (layers are a/sqrt3 = 0.577 a apart along y)
+  double bridge_depth = 0.3;           ///< in grain sizes a (layers are a/sqrt3 = 0.577 a apart along y)
   int membrane_interval = 200;         ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
   double equilibrium_tolerance = 0.01; ///< confinement: |wall stress - p0| / p0 (-)
   double kinetic_tolerance = 1e-4;     ///< confinement: kinetic / elastic energy (-)

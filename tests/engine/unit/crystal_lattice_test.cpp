@@ -789,13 +789,13 @@ struct PittedCloud {
   std::vector<Vec3> bodies, spheres;
   std::vector<bool> pit_bottom;  // the bodies seen at the bottom of the pit
   static constexpr double kPitWidth = 4e-3, kPitDepth = 2e-3;
-  PittedCloud(bool pitted) {
+  explicit PittedCloud(bool pitted, int first_bx = 2) {
     const SphereCloud box(16, 16, 24);  // bodies 8 x 8 x 12, body-major in (bx, by, bz) order
     std::size_t b = 0;
     for (int bx = 0; bx < 8; ++bx)
       for (int by = 0; by < 8; ++by)
         for (int bz = 0; bz < 12; ++bz, ++b) {
-          const bool under_pit = bx >= 2 && bx < 6 && bz >= 4 && bz < 8;
+          const bool under_pit = bx >= first_bx && bx < first_bx + 4 && bz >= 4 && bz < 8;
           if (pitted && under_pit && by >= 6) continue;
           bodies.push_back(box.bodies[b]);
           pit_bottom.push_back(pitted && under_pit && by == 5);
@@ -847,6 +847,19 @@ TEST(MembraneBridging, ThePitBottomIsPushedWithoutBridgingAndNotWithIt) {
   double total = 0;
   for (const Vec3& f : f_bridging) total += f.y() < 0 ? f.y() : 0;
   EXPECT_NEAR(total, -p * st.area[2], 1e-9 * p * st.area[2]);
+}
+
+TEST(MembraneBridging, ABayOpenToTheOutsideIsFollowed) {
+  // The same pit moved to the -x edge (bodies bx = 0..3): a notch open to the side, which a bag wraps
+  // into; a closing alone would fill it, the flood from the map's border does not.
+  const PittedCloud notched(true, 0);
+  Membrane bridging(3e4, 0.3e-3, 3e-3, 1.5e-3);
+  std::vector<Vec3> f;
+  const MembraneStats st = notched.apply(bridging, f);
+  int pushed = 0;
+  for (std::size_t b = 0; b < notched.bodies.size(); ++b) pushed += notched.pit_bottom[b] && f[b].y() < 0;
+  EXPECT_GT(pushed, 0);
+  EXPECT_EQ(st.bridged_area, 0);
 }
 
 TEST(MembraneBridging, APitWiderThanTheSpanIsFollowed) {
