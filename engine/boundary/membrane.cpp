@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <omp.h>
-#include <queue>
 #include <utility>
 
 namespace granulab {
@@ -162,18 +161,25 @@ void Membrane::local_envelope(const std::vector<double>& height, int nu, int nv,
   a.envelope.assign(height.size(), kEmpty);
   std::vector<bool>& done = a.flooded;
   done.assign(height.size(), false);
-  using Item = std::pair<double, std::size_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue(std::greater<Item>(), std::move(a.heap));
+  // A binary min-heap on the reused a.heap (a std::priority_queue would not give its storage back).
+  std::vector<std::pair<double, std::size_t>>& heap = a.heap;
+  heap.clear();
+  const std::greater<std::pair<double, std::size_t>> lowest_first;
+  auto push = [&](double level, std::size_t k) {
+    heap.emplace_back(level, k);
+    std::push_heap(heap.begin(), heap.end(), lowest_first);
+  };
   for (int iu = 0; iu < nu; ++iu)
     for (int iv = 0; iv < nv; ++iv)
       if (iu == 0 || iv == 0 || iu == nu - 1 || iv == nv - 1) {
         const std::size_t k = std::size_t(iu) * nv + iv;
-        queue.emplace(height[k], k);
+        push(height[k], k);
         done[k] = true;
       }
-  while (!queue.empty()) {
-    const auto [level, k] = queue.top();
-    queue.pop();
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), lowest_first);
+    const auto [level, k] = heap.back();
+    heap.pop_back();
     a.envelope[k] = level;
     const int iu = int(k / nv), iv = int(k % nv);
     const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
@@ -183,7 +189,7 @@ void Membrane::local_envelope(const std::vector<double>& height, int nu, int nv,
       const std::size_t m = std::size_t(ju) * nv + jv;
       if (done[m]) continue;
       done[m] = true;
-      queue.emplace(std::max(level, height[m]), m);
+      push(std::max(level, height[m]), m);
     }
   }
   for (int iu = 0; iu < nu; ++iu)
