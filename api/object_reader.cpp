@@ -75,16 +75,16 @@ long ObjectReader::integer(const std::string& key, long fallback, long lo, long 
 }
 
 std::string ObjectReader::choice(const std::string& key, const std::string& fallback,
-                                 std::initializer_list<const char*> allowed) {
+                                 const std::vector<std::string>& allowed) {
   std::string list;
-  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
   std::string v = fallback;
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_string())
       throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be one of: " + list + ", got " + type_name(*j));
     v = j->get<std::string>();
   }
-  for (const char* a : allowed)
+  for (const std::string& a : allowed)
     if (v == a) {
       normalized_[key] = v;
       return v;

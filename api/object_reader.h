@@ -2,9 +2,9 @@
 // every key it was not asked about (a typo must not silently fall back to a default).
 #pragma once
 
-#include <initializer_list>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -22,7 +22,7 @@ class ObjectReader {
   /// A number in [lo, hi] (or (lo, hi] with lo_open), stored into the normalised output.
   double number(const std::string& key, double fallback, double lo, double hi, bool lo_open = false);
   long integer(const std::string& key, long fallback, long lo, long hi);
-  std::string choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> allowed);
+  std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
   std::string text(const std::string& key, const std::string& fallback, std::size_t max_length);
   /// An array of numbers each in [lo, hi], at most max_items.
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, double lo, double hi,

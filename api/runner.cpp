@@ -1,49 +1,34 @@
 #include "api/runner.h"
 
 #include <cstdio>
-#include <sstream>
 
-#include "api/results.h"
+#include "api/curve_format.h"
 #include "api/snapshot_files.h"
+#include "api/summary_json.h"
 
 namespace granulab::api {
 
-RunOutput run_spec(const Spec& spec, const ProgressFn& progress) {
-  RunOutput out;
-  if (spec.experiment == Experiment::two_cube_sliding) {
-    TwoCubeSliding experiment(spec.two_cube);
-    const TwoCubeResult r = experiment.run(progress);
-    out.summary = summary_json(r, spec.normalized);
-    out.curve_csv = curve_csv(r);
-  } else {
-    CrystalCompression experiment(spec.crystal);
-    const CrystalResult r = experiment.run(progress);
-    out.summary = summary_json(r, spec.normalized);
-    out.curve_csv = curve_csv(r);
-    for (const CrystalSnapshot& s : r.snapshots) out.snapshots.emplace_back(s.strain, snapshot_json(s));
-  }
-  return out;
+void MemorySink::begin(const std::vector<CurveColumn>& columns) {
+  columns_ = columns;
+  curve_csv_ = curve_csv_header(columns);
 }
 
-nlohmann::json curve_csv_to_json(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line;
-  std::vector<std::string> names;
-  nlohmann::json out = nlohmann::json::object();
-  if (std::getline(in, line)) {
-    std::istringstream header(line);
-    for (std::string name; std::getline(header, name, ',');) {
-      names.push_back(name);
-      out[name] = nlohmann::json::array();
-    }
-  }
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    std::size_t k = 0;
-    for (std::string cell; std::getline(row, cell, ',') && k < names.size(); ++k) out[names[k]].push_back(std::stod(cell));
-  }
-  out["columns"] = names;
-  return out;
+void MemorySink::curve_row(const std::vector<double>& values) { curve_csv_ += curve_csv_line(columns_, values); }
+
+void MemorySink::snapshot(std::size_t, const GrainSnapshot& s) { snapshots_.emplace_back(s.strain, snapshot_json(s)); }
+
+nlohmann::json run(const Spec& spec, JobSink& sink) {
+  sink.begin(spec.experiment->curve_columns());
+  const std::unique_ptr<ExperimentResult> result = spec.experiment->run(sink);
+  nlohmann::json summary = summary_json(spec, *result);
+  sink.summary(summary);
+  return summary;
+}
+
+RunOutput run_spec(const Spec& spec, const ProgressFn& progress) {
+  MemorySink sink(progress);
+  run(spec, sink);
+  return {std::move(sink.summary_), std::move(sink.curve_csv_), std::move(sink.snapshots_)};
 }
 
 std::string spec_hash(const nlohmann::json& normalized_spec) {

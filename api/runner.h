@@ -1,29 +1,32 @@
-// Runs a validated spec in-process and returns its results in the shapes users get: the summary
-// JSON, the curve as CSV and as JSON columns, and each snapshot's compact JSON. Shared by the CLI and
-// the server so that both give the same answer for the same spec.
+// The one runner: drives any registered experiment of a validated spec and writes everything it makes
+// through a JobSink. The CLI (`granulab run`, files), the server's workers (the store) and the tests
+// (memory) all run jobs through here, so they give the same answer for the same spec.
 #pragma once
 
-#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "api/job_sink.h"
 #include "api/spec.h"
 
 namespace granulab::api {
 
+/// Runs the spec with the calling thread's OpenMP thread count. Throws Cancelled when the sink asks to
+/// stop, std::invalid_argument / std::runtime_error when the run cannot be made or fails. Returns the
+/// summary it gave the sink.
+nlohmann::json run(const Spec& spec, JobSink& sink);
+
+/// Everything a run made, in memory.
 struct RunOutput {
   nlohmann::json summary;
   std::string curve_csv;
   std::vector<std::pair<double, nlohmann::json>> snapshots;  ///< strain, compact JSON
 };
-
-/// `progress` may stop the run (Cancelled is thrown). Uses the calling thread's OpenMP thread count.
+/// run() into a MemorySink; `progress` may stop the run.
 RunOutput run_spec(const Spec& spec, const ProgressFn& progress = nullptr);
-
-/// CSV text (header row first, numeric cells) as {"columns": [names], "<name>": [values], ...}.
-nlohmann::json curve_csv_to_json(const std::string& csv);
 
 /// A stable 64-bit FNV-1a hash of the normalised spec, as 16 hex digits: identical specs, same hash.
 std::string spec_hash(const nlohmann::json& normalized_spec);

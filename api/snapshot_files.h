@@ -1,4 +1,4 @@
-// Crystal snapshots as files: a compact JSON document (per-grain and per-interface arrays, what the
+// Grain snapshots as files: a compact JSON document (per-grain and per-interface arrays, what the
 // server stores), a LAMMPS text dump (OVITO reads its columns, quaternion included), and legacy VTK
 // polydata for ParaView: grains as points, interfaces as lines carrying their sliding distance.
 #pragma once
@@ -7,13 +7,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/experiments/crystal_compression.h"
+#include "engine/analysis/grain_snapshot.h"
 
 namespace granulab::api {
 
-nlohmann::json snapshot_json(const CrystalSnapshot& s);
-std::string snapshot_lammps_dump(const CrystalSnapshot& s);
-std::string snapshot_grains_vtk(const CrystalSnapshot& s);
-std::string snapshot_interfaces_vtk(const CrystalSnapshot& s);
+nlohmann::json snapshot_json(const GrainSnapshot& s);
+std::string snapshot_lammps_dump(const GrainSnapshot& s);
+std::string snapshot_grains_vtk(const GrainSnapshot& s);
+std::string snapshot_interfaces_vtk(const GrainSnapshot& s);
 
 }  // namespace granulab::api

@@ -38,8 +38,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/experiments/crystal_lattice.h"
-#include "engine/experiments/model.h"
+#include "engine/crystal/crystal_lattice.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 using namespace granulab;

@@ -14,8 +14,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/experiments/model.h"
-#include "engine/experiments/two_cube_sliding.h"
+#include "engine/model/model.h"
+#include "engine/experiments/two_cube_sliding/two_cube_sliding.h"
 #include "engine/world/world.h"
 
 using namespace granulab;
@@ -41,7 +41,7 @@ void two_cubes() {
   p.rate_number = 1e-5;
   TwoCubeSliding experiment(p);
   const TwoCubeResult r = experiment.run();
-  report("(a) two cubes N_e=10", r.spheres, r.steps, r.wall_seconds, r.stage_times);
+  report("(a) two cubes N_e=10", r.run.spheres, r.run.steps, r.run.wall_seconds, r.run.stage_times);
 }
 
 // K^3 grains on the FCC lattice spanned by the primitive vectors (1/2,1/2,0), (1/2,0,1/2), (0,1/2,1/2)

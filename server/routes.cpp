@@ -9,9 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "api/results.h"
+#include "api/curve_format.h"
+#include "api/engine_version.h"
 #include "api/runner.h"
 #include "api/spec.h"
+#include "api/spec_docs.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -154,6 +156,12 @@ void HttpServer::routes() {
            {"threads_per_job", pool_.threads_per_job()}});
   });
 
+  // Every registered experiment: its spec fields (default, range, unit, meaning) and curve columns.
+  http_->Get("/v1/experiments", [](const httplib::Request&, httplib::Response& res) {
+    static const json description = api::experiments_json();  // the registry does not change at run time
+    reply(res, 200, description);
+  });
+
   http_->Post("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
     api::Spec spec;
     try {
@@ -213,13 +221,15 @@ void HttpServer::routes() {
     const std::int64_t id = std::stoll(req.matches[1]);
     const auto job = store_.get(id);
     if (!job) return error(res, 404, "not_found", "no job " + std::to_string(id));
-    if (job->status != "succeeded")
-      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + job->status + ", not succeeded");
-    if (req.has_param("format") && req.get_param_value("format") == "csv") {
-      res.set_content(store_.curve_csv(id).value_or(""), "text/csv");
-      return;
-    }
-    res.set_content(store_.curve_json(id).value_or("{}"), "application/json");
+    // A finished job's stored curve; a running job's rows so far; what a cancelled or failed one computed.
+    const bool csv = req.has_param("format") && req.get_param_value("format") == "csv";
+    if (job->status == "succeeded" && !csv)
+      if (const auto json_text = store_.curve_json(id)) return res.set_content(*json_text, "application/json");
+    const auto text = store_.live_curve_csv(id);
+    if (!text)
+      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + job->status + " and has no curve yet");
+    if (csv) return res.set_content(*text, "text/csv");
+    res.set_content(api::curve_csv_to_json(*text).dump(), "application/json");
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/snapshots)", [this](const httplib::Request& req, httplib::Response& res) {

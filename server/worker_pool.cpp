@@ -7,16 +7,9 @@
 #include <spdlog/spdlog.h>
 
 #include "api/runner.h"
+#include "server/store_sink.h"
 
 namespace granulab::server {
-
-namespace {
-
-struct Interrupted : std::runtime_error {
-  Interrupted() : std::runtime_error("interrupted by shutdown") {}
-};
-
-}  // namespace
 
 WorkerPool::WorkerPool(JobStore& store, int workers, int threads_per_job, double progress_seconds)
     : store_(store), workers_(workers), threads_per_job_(threads_per_job), progress_seconds_(progress_seconds) {}
@@ -58,33 +51,31 @@ void WorkerPool::work() {
 void WorkerPool::run_job(const JobRecord& job) {
   spdlog::info("job {} started ({})", job.id, job.experiment);
   const auto start = std::chrono::steady_clock::now();
-  auto last_report = start;
+  StoreSink sink(store_, job.id, stopping_, progress_seconds_);
   try {
     const api::Spec spec = api::parse_spec_text(job.spec_json);
-    const api::RunOutput out = api::run_spec(spec, [&](double fraction) {
-      if (stopping_) throw Interrupted();
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_report).count() < progress_seconds_) return true;
-      last_report = now;
-      const double elapsed = std::chrono::duration<double>(now - start).count();
-      store_.set_progress(job.id, fraction, fraction > 0 ? elapsed * (1 - fraction) / fraction : -1);
-      return !store_.cancel_requested(job.id);
-    });
-    for (std::size_t k = 0; k < out.snapshots.size(); ++k) {
-      const std::string text = out.snapshots[k].second.dump();
-      store_.add_snapshot(job.id, int(k), out.snapshots[k].first, std::vector<std::uint8_t>(text.begin(), text.end()));
-    }
-    store_.succeed(job.id, out.summary.dump(), out.curve_csv, api::curve_csv_to_json(out.curve_csv).dump());
-    spdlog::info("job {} succeeded in {:.1f} s", job.id,
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    api::run(spec, sink);
+    spdlog::info("job {} succeeded in {:.1f} s; results written in {} batches taking {:.3f} s", job.id,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), sink.flushes(),
+                 sink.flush_seconds_total());
   } catch (const Interrupted&) {
     spdlog::warn("job {} interrupted by shutdown; it will be re-queued at the next start", job.id);
   } catch (const Cancelled&) {
+    keep_partial_results(sink, job.id);
     store_.mark_cancelled(job.id);
     spdlog::info("job {} cancelled", job.id);
   } catch (const std::exception& e) {
+    keep_partial_results(sink, job.id);
     store_.fail(job.id, e.what());
     spdlog::error("job {} failed: {}", job.id, e.what());
+  }
+}
+
+void WorkerPool::keep_partial_results(StoreSink& sink, std::int64_t job) {
+  try {
+    sink.flush();
+  } catch (const std::exception& e) {
+    spdlog::error("job {}: could not store its last results: {}", job, e.what());
   }
 }
 

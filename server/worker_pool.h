@@ -1,6 +1,6 @@
 // The job queue's workers: K threads, each taking the next queued job from the store (highest
-// priority, oldest first), running it with `threads_per_job` OpenMP threads, reporting progress at
-// least every `progress_seconds`, and storing the result. HTTP handler threads never run simulations:
+// priority, oldest first), running it with `threads_per_job` OpenMP threads through the one runner
+// into a StoreSink, which stores curve rows, snapshots and progress at least every `progress_seconds`. HTTP handler threads never run simulations:
 // they only submit to the store and notify() the pool.
 #pragma once
 
@@ -13,6 +13,8 @@
 #include "server/store/job_store.h"
 
 namespace granulab::server {
+
+class StoreSink;
 
 class WorkerPool {
  public:
@@ -33,6 +35,8 @@ class WorkerPool {
  private:
   void work();
   void run_job(const JobRecord& job);
+  /// A cancelled or failed run keeps the rows and snapshots it made since the last batch.
+  void keep_partial_results(StoreSink& sink, std::int64_t job);
 
   JobStore& store_;
   int workers_, threads_per_job_;

@@ -2,7 +2,6 @@
 // (no server) and writes DIR/summary.json, DIR/curve.csv and DIR/snapshots/. Progress and an ETA go
 // to stderr; failures exit non-zero with a message that names the bad field.
 #include <omp.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -17,10 +16,12 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "api/engine_version.h"
 #include "api/passive_openmp.h"
-#include "api/results.h"
-#include "api/snapshot_files.h"
+#include "api/runner.h"
 #include "api/spec.h"
+#include "api/spec_docs.h"
+#include "clients/cli/files_sink.h"
 #include "clients/cli/remote.h"
 
 namespace fs = std::filesystem;
@@ -32,9 +33,10 @@ const char* kUsage =
     "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
     "       granulab submit SPEC.json [--reuse] [--priority N] | status ID | wait ID | results ID --out DIR |\n"
     "                cancel ID | list [--status S] [--limit N]      (server: --server URL or GRANULAB_SERVER)\n"
+    "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
-    "The spec format is in the README (every field has a default: {\"experiment\": \"two_cube_sliding\"}).\n";
+    "The spec's fields: docs/spec.md or `granulab experiments --markdown` (every field has a default).\n";
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -42,17 +44,6 @@ std::string read_file(const fs::path& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// Write to a temporary name and rename, so a crash never leaves a half-written result file.
-void write_file(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-  }
-  fs::rename(tmp, path);
 }
 
 std::string duration(double s) {
@@ -85,67 +76,6 @@ class ProgressPrinter {
   bool quiet_, tty_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
-
-// Peak resident memory of this process so far (bytes): the run's memory footprint.
-long peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss * 1024L;  // KiB on Linux
-}
-
-void run_two_cube(const api::Spec& spec, const fs::path& out, const ProgressFn& progress) {
-  const TwoCubeParams& p = spec.two_cube;
-  spdlog::info("two_cube_sliding: N_e={} kappa={} f={} eps0={} rate_number={} threads={}", p.grain.edge_spheres,
-               p.grain.overlap, p.material.friction, p.prestrain, p.rate_number, omp_get_max_threads());
-  TwoCubeSliding experiment(p);
-  const TwoCubeResult result = experiment.run(progress);
-  write_file(out / "curve.csv", api::curve_csv(result));
-  nlohmann::json summary = api::summary_json(result, spec.normalized);
-  summary["peak_rss_bytes"] = peak_rss_bytes();
-  write_file(out / "summary.json", summary.dump(2) + "\n");
-  spdlog::info("{} steps in {:.2f} s ({:.3g} sphere-steps/s); curve: {}", result.steps, result.wall_seconds,
-               result.spheres * double(result.steps) / result.wall_seconds, (out / "curve.csv").string());
-}
-
-// Each snapshot k is written four ways: snapshot_k.json (compact, for the server), snapshot_k.dump
-// (LAMMPS text dump, opens in OVITO), snapshot_k_grains.vtk and snapshot_k_interfaces.vtk (ParaView).
-void write_snapshot(const fs::path& out, std::size_t k, const CrystalSnapshot& s) {
-  const std::string stem = (out / "snapshots" / ("snapshot_" + std::to_string(k))).string();
-  write_file(stem + ".json", api::snapshot_json(s).dump() + "\n");
-  write_file(stem + ".dump", api::snapshot_lammps_dump(s));
-  write_file(stem + "_grains.vtk", api::snapshot_grains_vtk(s));
-  write_file(stem + "_interfaces.vtk", api::snapshot_interfaces_vtk(s));
-}
-
-// Curve rows and snapshots are written as the run makes them (a killed run keeps what it computed);
-// summary.json, written last, marks a finished run.
-void run_crystal(const api::Spec& spec, const fs::path& out, const ProgressFn& progress) {
-  const CrystalParams& p = spec.crystal;
-  spdlog::info("crystal_compression: {} x {} x {} grains, N_e={} kappa={} f={} p0={} Pa rate_number={} threads={}",
-               p.grains_x, p.rows_z, p.layers_y, p.grain.edge_spheres, p.grain.overlap, p.material.friction,
-               p.confining_pressure, p.rate_number, omp_get_max_threads());
-  CrystalCompression experiment(p);
-  spdlog::info("{} grains ({} knocked out), {} spheres", experiment.world().bodies().size(),
-               experiment.lattice().knocked_out, experiment.world().sphere_count());
-  fs::remove(out / "summary.json");
-  std::ofstream curve(out / "curve.csv", std::ios::trunc);
-  curve << api::crystal_curve_header() << std::flush;
-  std::size_t snapshots = 0;
-  CrystalObserver observer;
-  observer.row = [&](const CrystalRow& row) { curve << api::crystal_curve_row(row) << std::flush; };
-  observer.snapshot = [&](const CrystalSnapshot& s) { write_snapshot(out, snapshots++, s); };
-  const CrystalResult result = experiment.run(progress, observer);
-  if (!result.confinement.converged)
-    spdlog::warn("confinement stopped after {} steps without reaching equilibrium", result.confinement.steps);
-  curve.close();
-  nlohmann::json summary = api::summary_json(result, spec.normalized);
-  summary["peak_rss_bytes"] = peak_rss_bytes();
-  write_file(out / "summary.json", summary.dump(2) + "\n");
-  spdlog::info("{} steps in {:.1f} s ({:.4f} s/step); first yield: deviator {:.2f} p0 at strain {:.2e}; curve: {}",
-               result.steps, result.wall_seconds, result.wall_seconds / result.steps,
-               summary["first_yield"]["deviator_over_p0"].get<double>(), summary["first_yield"]["strain"].get<double>(),
-               (out / "curve.csv").string());
-}
 
 // Per-stage timings of the time step, from what the run wrote to summary.json.
 void print_profile(const fs::path& summary_path) {
@@ -203,13 +133,15 @@ int run(int argc, char** argv) {
   if (threads > 0) omp_set_num_threads(threads);
 
   const fs::path out(out_dir);
-  fs::create_directories(out / "snapshots");
   ProgressPrinter printer(quiet);
-  const ProgressFn progress = [&](double f) { return printer(f); };
-  if (spec.experiment == api::Experiment::two_cube_sliding)
-    run_two_cube(spec, out, progress);
-  else
-    run_crystal(spec, out, progress);
+  cli::FilesSink sink(out, [&](double f) { return printer(f); });
+  spdlog::info("{}{}: {} thread(s); spec with defaults in {}", spec.name(),
+               spec.label.empty() ? "" : " \"" + spec.label + "\"", omp_get_max_threads(), (out / "summary.json").string());
+  const nlohmann::json summary = api::run(spec, sink);
+  for (const auto& w : summary.value("warnings", nlohmann::json::array())) spdlog::warn("{}", w.get<std::string>());
+  const double steps = summary["steps"].get<double>(), wall = summary["wall_seconds"].get<double>();
+  spdlog::info("{} grains, {} spheres, {:.0f} steps in {:.1f} s ({:.3g} s/step); curve: {}", summary["grains"].get<long>(),
+               summary["spheres"].get<long>(), steps, wall, steps > 0 ? wall / steps : 0.0, (out / "curve.csv").string());
   if (profile) print_profile(out / "summary.json");
   return 0;
 }
@@ -227,6 +159,11 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   try {
     if (command == "run") return run(argc, argv);
+    if (command == "experiments") {
+      const bool markdown = argc > 2 && std::string(argv[2]) == "--markdown";
+      std::cout << (markdown ? api::experiments_markdown() : api::experiments_json().dump(2) + "\n");
+      return 0;
+    }
     if (command == "version") {
       std::cout << "granulab " << api::engine_version() << "\n";
       return 0;

@@ -7,22 +7,22 @@
 
 namespace granulab {
 
-std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbour_pairs(const std::vector<Vec3>& x, double cutoff) {
+std::vector<BodyPair> neighbour_pairs(const std::vector<Vec3>& x, double cutoff) {
   // Sort by x and sweep: O(n log n + pairs) for the near-uniform packings we analyse.
   std::vector<std::uint32_t> order(x.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](auto a, auto b) { return x[a].x() < x[b].x(); });
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<BodyPair> pairs;
   for (std::size_t k = 0; k < order.size(); ++k)
     for (std::size_t m = k + 1; m < order.size() && x[order[m]].x() - x[order[k]].x() < cutoff; ++m)
       if ((x[order[m]] - x[order[k]]).norm() < cutoff)
-        pairs.emplace_back(std::min(order[k], order[m]), std::max(order[k], order[m]));
+        pairs.push_back({std::min(order[k], order[m]), std::max(order[k], order[m])});
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
 
 std::vector<LocalStrain> local_strains(const std::vector<Vec3>& ref, const std::vector<Vec3>& cur,
-                                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+                                       const std::vector<BodyPair>& pairs) {
   const std::size_t n = ref.size();
   std::vector<Mat3> v(n, Mat3::Zero()), w(n, Mat3::Zero());  // sum d0 d0^T and sum d d0^T
   for (const auto& [a, b] : pairs) {
@@ -53,7 +53,7 @@ std::vector<LocalStrain> local_strains(const std::vector<Vec3>& ref, const std::
 
 std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const std::vector<Quat>& ref_q,
                                       const std::vector<Vec3>& pos, const std::vector<Quat>& q,
-                                      const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+                                      const std::vector<BodyPair>& pairs) {
   std::vector<double> out;
   out.reserve(pairs.size());
   for (const auto& [a, b] : pairs) {

@@ -11,8 +11,8 @@
 
 namespace granulab {
 
-/// Pairs (a, b), a < b, of grains whose reference centres are closer than `cutoff` (m): the interfaces.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbour_pairs(const std::vector<Vec3>& positions, double cutoff);
+/// Pairs (a, b), a < b, of bodies whose reference centres are closer than `cutoff` (m): the interfaces.
+std::vector<BodyPair> neighbour_pairs(const std::vector<Vec3>& positions, double cutoff);
 
 struct LocalStrain {
   double max_shear = 0;   ///< gamma_max = (e1 - e3)/2 of the Green-Lagrange strain E (tensor shear)
@@ -24,13 +24,13 @@ struct LocalStrain {
 /// Directions that a grain's neighbours do not span (a planar or linear neighbourhood) are taken as
 /// undeformed.
 std::vector<LocalStrain> local_strains(const std::vector<Vec3>& reference, const std::vector<Vec3>& current,
-                                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
+                                       const std::vector<BodyPair>& pairs);
 
 /// Sliding distance at each interface: the two grains' material points that coincided at the reference
 /// interface midpoint, their current separation projected on the interface plane as carried by the
 /// grains' rotations (m).
 std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const std::vector<Quat>& ref_q,
                                       const std::vector<Vec3>& pos, const std::vector<Quat>& q,
-                                      const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
+                                      const std::vector<BodyPair>& pairs);
 
 }  // namespace granulab

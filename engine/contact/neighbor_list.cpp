@@ -68,7 +68,7 @@ void NeighborList::broad_phase(const Bodies& bodies) {
         }
   }
   std::sort(pairs_.begin(), pairs_.end(),
-            [](const GrainPair& p, const GrainPair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
+            [](const BodyPairSpan& p, const BodyPairSpan& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
 }
 
 void NeighborList::narrow_phase(const Bodies& bodies) {
@@ -88,7 +88,7 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
     out.clear();
 #pragma omp for schedule(dynamic, 4)
     for (long p = 0; p < n_pairs; ++p) {
-      GrainPair& gp = pairs_[p];
+      BodyPairSpan& gp = pairs_[p];
       const Quat qa_inv = bodies.orientation[gp.a].conjugate();
       const Mat3 r_ab = (qa_inv * bodies.orientation[gp.b]).toRotationMatrix();
       const Vec3 t_ab = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
@@ -108,23 +108,23 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
   }
 
   std::uint32_t total = 0;
-  for (GrainPair& gp : pairs_) gp.first = total, total += gp.count;
+  for (BodyPairSpan& gp : pairs_) gp.first = total, total += gp.count;
   keys_.resize(total);
   history_.resize(total);
 #pragma omp parallel for schedule(static)
   for (long p = 0; p < n_pairs; ++p) {
-    const GrainPair& gp = pairs_[p];
+    const BodyPairSpan& gp = pairs_[p];
     const std::uint32_t* src = thread_keys_[pair_thread_[p]].data() + pair_offset_[p];
     std::copy(src, src + gp.count, keys_.begin() + gp.first);
   }
   // Drop grain pairs with no sphere pair: they cost a loop iteration every step for nothing.
-  pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(), [](const GrainPair& gp) { return gp.count == 0; }),
+  pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(), [](const BodyPairSpan& gp) { return gp.count == 0; }),
                pairs_.end());
 
   // Carry history: walk old and new grain pairs in (a, b) order, and inside a shared grain pair
   // walk both sorted key blocks.
   std::size_t po = 0;
-  for (const GrainPair& gp : pairs_) {
+  for (const BodyPairSpan& gp : pairs_) {
     while (po < old_pairs_.size() &&
            (old_pairs_[po].a < gp.a || (old_pairs_[po].a == gp.a && old_pairs_[po].b < gp.b)))
       ++po;

@@ -22,7 +22,8 @@
 
 namespace granulab {
 
-struct GrainPair {
+/// The candidate sphere pairs of two bodies: a contiguous block of the sorted key array.
+struct BodyPairSpan {
   BodyId a, b;          ///< a < b
   std::uint32_t first;  ///< index of the first sphere pair of this grain pair
   std::uint32_t count;  ///< number of sphere pairs
@@ -48,7 +49,7 @@ class NeighborList {
 
   double skin() const { return skin_; }
   double cutoff() const { return cutoff_; }
-  const std::vector<GrainPair>& grain_pairs() const { return pairs_; }
+  const std::vector<BodyPairSpan>& body_pairs() const { return pairs_; }
   const std::vector<std::uint32_t>& keys() const { return keys_; }
   std::vector<Vec3>& history() { return history_; }
   const std::vector<std::uint64_t>& wall_keys() const { return wall_keys_; }
@@ -63,7 +64,7 @@ class NeighborList {
   double radius_, skin_, cutoff_, grain_cutoff_;
   TemplateGrid grid_;
 
-  std::vector<GrainPair> pairs_, old_pairs_;
+  std::vector<BodyPairSpan> pairs_, old_pairs_;
   std::vector<std::uint32_t> keys_, old_keys_;
   std::vector<Vec3> history_, old_history_;
   std::vector<std::uint64_t> wall_keys_, old_wall_keys_;

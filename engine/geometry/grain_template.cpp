@@ -39,12 +39,16 @@ std::vector<Vec3> unique_points(const std::vector<Vec3>& pts, double tol) {
 
 }  // namespace
 
+long sphere_count(const GrainGeometry& g) {
+  const long m = g.edge_spheres - 2;
+  return g.shape == Shape::cube ? 6 * m * m + 12 * m + 8 : 12 * m * m + 24 * m + 14;
+}
+
 GrainTemplate::GrainTemplate(const GrainGeometry& g) : geometry_(g), solid_(Polyhedron::make(g.shape, g.size)) {
   if (g.edge_spheres < 2) throw std::invalid_argument("edge_spheres must be >= 2");
   if (!(g.overlap >= 0 && g.overlap < 1)) throw std::invalid_argument("overlap must be in [0, 1)");
-  const long m = g.edge_spheres - 2;  // closed-form count (MODEL.md), checked before allocating
-  const long count = g.shape == Shape::cube ? 6 * m * m + 12 * m + 8 : 12 * m * m + 24 * m + 14;
-  if (count > 65535) throw std::invalid_argument("edge_spheres too large: a clump holds at most 65535 spheres");
+  if (granulab::sphere_count(g) > 65535)  // checked before allocating
+    throw std::invalid_argument("edge_spheres too large: a clump holds at most 65535 spheres");
   diameter_ = sphere_diameter(g);
   spacing_ = diameter_ * (1 - g.overlap);
 

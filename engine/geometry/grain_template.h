@@ -21,6 +21,9 @@ struct GrainGeometry {
 /// Sphere diameter d (m): cube eq. 2, d = l/((N_e-1)(1-kappa)+1); RD (MODEL.md reading of eq. 7),
 /// d = a/((4/sqrt3)(N_e-1)(1-kappa) + sqrt2).
 double sphere_diameter(const GrainGeometry& g);
+/// Spheres in one clump, closed form (docs/model.md, "Grains"): cube 6m^2 + 12m + 8, RD 12m^2 + 24m + 14
+/// with m = N_e - 2 (each vertex and edge sphere counted once). What the template holds, without building it.
+long sphere_count(const GrainGeometry& g);
 
 class GrainTemplate {
  public:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <omp.h>
 #include <stdexcept>
 
 #include "engine/contact/pair_kernel.h"
@@ -28,6 +29,22 @@ World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSetti
     : grain_(grain), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
   for (const Vec3& o : grain_.offsets()) max_offset_ = std::max(max_offset_, o.norm());
+}
+
+RunStats World::run_stats(double wall_seconds) const {
+  RunStats r;
+  r.grains = bodies_.size();
+  r.spheres = sphere_count();
+  r.steps = steps_;
+  r.rebuilds = rebuilds_;
+  r.time_step = settings_.time_step;
+  r.sphere_diameter = grain_.diameter();
+  r.normal_stiffness = law_.normal_stiffness;
+  r.spheres_per_face = grain_.spheres_per_face();
+  r.threads = omp_get_max_threads();
+  r.wall_seconds = wall_seconds;
+  r.stage_times = times_;
+  return r;
 }
 
 BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion motion) {
@@ -121,7 +138,7 @@ void World::rebuild() {
   built_orientation_ = bodies_.orientation;
   built_wall_point_.resize(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) built_wall_point_[w] = walls_[w].point;
-  const std::size_t n_pairs = neighbors_.grain_pairs().size();
+  const std::size_t n_pairs = neighbors_.body_pairs().size();
   pair_force_.resize(n_pairs);
   pair_torque_a_.resize(n_pairs);
   pair_torque_b_.resize(n_pairs);
@@ -135,7 +152,7 @@ void World::rebuild() {
 
 void World::sphere_contact_forces() {
   StageTimer t(times_.contacts);
-  const auto& pairs = neighbors_.grain_pairs();
+  const auto& pairs = neighbors_.body_pairs();
   const auto& keys = neighbors_.keys();
   Vec3* history = neighbors_.history().data();
   const Vec3* offsets = grain_.offsets().data();
@@ -145,7 +162,7 @@ void World::sphere_contact_forces() {
 
 #pragma omp parallel for schedule(dynamic, 4) if (n_pairs >= 8)
   for (long p = 0; p < n_pairs; ++p) {
-    const GrainPair& gp = pairs[p];
+    const BodyPairSpan& gp = pairs[p];
     const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
     const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
     const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
@@ -175,7 +192,7 @@ void World::sphere_contact_forces() {
   stats_.elastic_energy = 0;
   std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
   for (long p = 0; p < n_pairs; ++p) {
-    const GrainPair& gp = pairs[p];
+    const BodyPairSpan& gp = pairs[p];
     bodies_.force[gp.a] += pair_force_[p];
     bodies_.force[gp.b] -= pair_force_[p];
     bodies_.torque[gp.a] += pair_torque_a_[p];

@@ -14,6 +14,7 @@
 #include "engine/contact/neighbor_list.h"
 #include "engine/dynamics/bodies.h"
 #include "engine/geometry/grain_template.h"
+#include "engine/world/run_stats.h"
 
 namespace granulab {
 
@@ -23,10 +24,6 @@ struct WorldSettings {
   Vec3 gravity = Vec3::Zero();    ///< m/s^2
 };
 
-/// Wall-clock seconds spent in each stage since the world was created.
-struct StageTimes {
-  double integrate = 0, spheres = 0, rebuild = 0, contacts = 0, walls = 0;
-};
 
 struct ContactStats {
   std::size_t candidates = 0;  ///< sphere pairs in the neighbour list
@@ -67,8 +64,10 @@ class World {
   std::uint64_t steps() const { return steps_; }
   std::uint64_t rebuilds() const { return rebuilds_; }
   const StageTimes& stage_times() const { return times_; }
+  /// The run's statistics and model numbers as of now; `wall_seconds` is the caller's measure of the run.
+  RunStats run_stats(double wall_seconds) const;
   const ContactStats& contact_stats() const { return stats_; }
-  /// Force on grain a of each grain pair of neighbors().grain_pairs() from grain b, last evaluation (N).
+  /// Force on grain a of each grain pair of neighbors().body_pairs() from grain b, last evaluation (N).
   const std::vector<Vec3>& pair_forces() const { return pair_force_; }
   /// Per body: sum of the sphere overlaps with other grains in the last evaluation (m), the paper's Delta.
   const std::vector<double>& overlap_sums() const { return overlap_sum_; }

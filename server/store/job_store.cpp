@@ -112,6 +112,8 @@ bool JobStore::succeed(std::int64_t id, const std::string& summary_json, const s
   if (db_->changes() == 0) return false;
   Statement curve(*db_, "INSERT OR REPLACE INTO curves (job_id, csv, json) VALUES (?1, ?2, ?3)");
   curve.bind(1, id).bind(2, curve_csv).bind(3, curve_json).run();
+  Statement rows(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");  // the whole curve replaces them
+  rows.bind(1, id).run();
   log_event_locked(id, "succeeded", "");
   tx.commit();
   return true;
@@ -219,6 +221,62 @@ std::optional<std::string> JobStore::curve_csv(std::int64_t id) { return curve_c
 
 std::optional<std::string> JobStore::curve_json(std::int64_t id) { return curve_column(id, "json"); }
 
+void JobStore::start_curve(std::int64_t id, const std::string& header) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement drop(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");
+  drop.bind(1, id).run();
+  Statement st(*db_, "UPDATE jobs SET curve_header = ?2 WHERE id = ?1");
+  st.bind(1, id).bind(2, header).run();
+  tx.commit();
+}
+
+void JobStore::append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
+                              const std::vector<SnapshotBlob>& snapshots) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  {
+    Statement st(*db_, "SELECT 1 FROM jobs WHERE id = ?1 AND status = 'running'");
+    st.bind(1, id);
+    if (!st.step()) return;
+  }
+  Statement row(*db_, "INSERT OR REPLACE INTO curve_rows (job_id, idx, line) VALUES (?1, ?2, ?3)");
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    row.reset();
+    row.bind(1, id).bind(2, std::int64_t(first_index + k)).bind(3, lines[k]).run();
+  }
+  Statement snap(*db_,
+                 "INSERT INTO snapshots (job_id, idx, strain, data) VALUES (?1, ?2, ?3, ?4) "
+                 "ON CONFLICT (job_id, idx) DO UPDATE SET strain = excluded.strain, data = excluded.data");
+  for (const SnapshotBlob& b : snapshots) {
+    snap.reset();
+    snap.bind(1, id).bind(2, b.index).bind(3, b.strain);
+    snap.bind_blob(4, std::vector<std::uint8_t>(b.data.begin(), b.data.end())).run();
+  }
+  tx.commit();
+}
+
+std::optional<std::string> JobStore::live_curve_csv(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  {
+    Statement whole(*db_, "SELECT csv FROM curves WHERE job_id = ?1");
+    whole.bind(1, id);
+    if (whole.step()) return whole.column_text(0);
+  }
+  std::string csv;
+  {
+    Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
+    header.bind(1, id);
+    if (!header.step()) return std::nullopt;
+    csv = header.column_text(0);
+  }
+  if (csv.empty()) return std::nullopt;
+  Statement rows(*db_, "SELECT line FROM curve_rows WHERE job_id = ?1 ORDER BY idx");
+  rows.bind(1, id);
+  while (rows.step()) csv += rows.column_text(0);
+  return csv;
+}
+
 void JobStore::add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob) {
   std::lock_guard<std::mutex> lock(mutex_);
   Statement st(*db_,
@@ -271,9 +329,13 @@ std::size_t JobStore::requeue_running() {
                   "UPDATE jobs SET status = 'queued', progress = 0, eta_seconds = -1, started_ms = 0, "
                   "cancel_requested = 0 WHERE id = ?1");
     job.bind(1, id).run();
-    // Snapshots of the interrupted run would mix with the rerun's: drop them.
+    // Results of the interrupted run would mix with the rerun's: drop them.
     Statement snaps(*db_, "DELETE FROM snapshots WHERE job_id = ?1");
     snaps.bind(1, id).run();
+    Statement rows(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");
+    rows.bind(1, id).run();
+    Statement header(*db_, "UPDATE jobs SET curve_header = '' WHERE id = ?1");
+    header.bind(1, id).run();
     log_event_locked(id, "requeued", "was running when the daemon stopped; back in the queue");
   }
   if (!ids.empty()) {

@@ -101,6 +101,22 @@ class JobStore {
   std::optional<std::string> curve_csv(std::int64_t id);
   std::optional<std::string> curve_json(std::int64_t id);
 
+  /// A job's results while it runs, written by its worker in batches (server/store_sink.h).
+  struct SnapshotBlob {
+    int index = 0;
+    double strain = 0.0;  ///< axial strain when taken (-)
+    std::string data;     ///< the compact JSON
+  };
+  /// Starts the job's live curve: its CSV header (newline included); drops rows of an earlier attempt.
+  void start_curve(std::int64_t id, const std::string& header);
+  /// Appends curve lines (newline included) numbered from `first_index`, and snapshots, in one
+  /// transaction. Ignored unless the job is running.
+  void append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
+                      const std::vector<SnapshotBlob>& snapshots);
+  /// The curve as CSV: the stored whole curve of a succeeded job, else the header and the rows written so
+  /// far (running, and what a cancelled or failed job computed); nullopt when there is none.
+  std::optional<std::string> live_curve_csv(std::int64_t id);
+
   /// Stores snapshot `index` of a job as a BLOB (replacing one already stored under that index).
   void add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob);
   /// The job's snapshots, by index (without their data).
@@ -112,7 +128,7 @@ class JobStore {
   std::optional<std::int64_t> find_succeeded(const std::string& spec_hash, const std::string& engine_version);
 
   /// Daemon start-up: every job left running by a previous process goes back to the queue (progress 0,
-  /// started_ms 0, cancel_requested cleared, its partial snapshots dropped) with a "requeued" event.
+  /// started_ms 0, cancel_requested cleared, its partial curve and snapshots dropped) with a "requeued" event.
   /// Returns how many. Call before any worker starts.
   std::size_t requeue_running();
 

@@ -66,6 +66,17 @@ CREATE TABLE events (
 );
 CREATE INDEX events_by_job ON events (job_id, id);
 )sql",
+    // 2: live results. Curve rows as a running job makes them (one CSV line each, in order), under the
+    // header the job's experiment gave; on success the whole curve moves to `curves`.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN curve_header TEXT NOT NULL DEFAULT '';
+CREATE TABLE curve_rows (
+  job_id INTEGER NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+  idx    INTEGER NOT NULL,
+  line   TEXT    NOT NULL,
+  PRIMARY KEY (job_id, idx)
+) WITHOUT ROWID;
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "api/spec.h"
+#include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 
 namespace granulab::api {
 namespace {
@@ -29,7 +30,7 @@ TEST(Examples, KnockoutExamplesRemoveFifteenGrains) {
     std::stringstream text;
     text << in.rdbuf();
     const Spec spec = parse_spec_text(text.str());
-    EXPECT_EQ(spec.crystal.knockout_ids.size(), 15u) << name;
+    EXPECT_EQ(spec.as<CrystalCompressionExperiment>().params.knockout_ids.size(), 15u) << name;
   }
 }
 

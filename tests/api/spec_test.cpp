@@ -9,8 +9,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "api/results.h"
+#include "api/curve_format.h"
 #include "api/spec.h"
+#include "api/summary_json.h"
+#include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
+#include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 #include "api/spec_error.h"
 
 namespace granulab::api {
@@ -36,10 +39,10 @@ constexpr const char* kContractCrystalExample = R"({
 
 TEST(SpecDefaults, TwoCubeSlidingGetsThePaperDefaults) {
   const Spec spec = parse_spec_text(R"({"experiment": "two_cube_sliding"})");
-  EXPECT_EQ(spec.experiment, Experiment::two_cube_sliding);
+  EXPECT_STREQ(spec.name(), "two_cube_sliding");
   EXPECT_EQ(spec.label, "");
   EXPECT_EQ(spec.threads, 0);
-  const TwoCubeParams& tc = spec.two_cube;
+  const TwoCubeParams& tc = spec.as<TwoCubeSlidingExperiment>().params;
   EXPECT_EQ(tc.grain.shape, Shape::cube);
   EXPECT_DOUBLE_EQ(tc.grain.size, 0.01);
   EXPECT_EQ(tc.grain.edge_spheres, 10);
@@ -54,7 +57,7 @@ TEST(SpecDefaults, TwoCubeSlidingGetsThePaperDefaults) {
 
 TEST(SpecDefaults, EmptyObjectIsTwoCubeSliding) {
   const Spec empty = parse_spec_text("{}");
-  EXPECT_EQ(empty.experiment, Experiment::two_cube_sliding);
+  EXPECT_STREQ(empty.name(), "two_cube_sliding");
   EXPECT_EQ(empty.normalized.at("experiment"), "two_cube_sliding");
   const Spec named = parse_spec_text(R"({"experiment": "two_cube_sliding"})");
   EXPECT_EQ(empty.normalized, named.normalized);
@@ -73,13 +76,13 @@ TEST(SpecDefaults, ExplicitValuesAreTaken) {
       "output": {"curve_points": 50}, "run": {"threads": 4}})");
   EXPECT_EQ(spec.label, "run A");
   EXPECT_EQ(spec.threads, 4);
-  EXPECT_DOUBLE_EQ(spec.two_cube.grain.size, 0.02);
-  EXPECT_EQ(spec.two_cube.grain.edge_spheres, 12);  // 12.0 is an integer value
-  EXPECT_DOUBLE_EQ(spec.two_cube.grain.overlap, 0.5);
-  EXPECT_DOUBLE_EQ(spec.two_cube.material.friction, 0.5);
-  EXPECT_DOUBLE_EQ(spec.two_cube.prestrain, 0.01);
-  EXPECT_DOUBLE_EQ(spec.two_cube.max_slide, 1.0);
-  EXPECT_EQ(spec.two_cube.curve_points, 50);
+  EXPECT_DOUBLE_EQ(spec.as<TwoCubeSlidingExperiment>().params.grain.size, 0.02);
+  EXPECT_EQ(spec.as<TwoCubeSlidingExperiment>().params.grain.edge_spheres, 12);  // 12.0 is an integer value
+  EXPECT_DOUBLE_EQ(spec.as<TwoCubeSlidingExperiment>().params.grain.overlap, 0.5);
+  EXPECT_DOUBLE_EQ(spec.as<TwoCubeSlidingExperiment>().params.material.friction, 0.5);
+  EXPECT_DOUBLE_EQ(spec.as<TwoCubeSlidingExperiment>().params.prestrain, 0.01);
+  EXPECT_DOUBLE_EQ(spec.as<TwoCubeSlidingExperiment>().params.max_slide, 1.0);
+  EXPECT_EQ(spec.as<TwoCubeSlidingExperiment>().params.curve_points, 50);
 }
 
 TEST(SpecDefaults, RangeBoundariesAreAccepted) {
@@ -94,7 +97,7 @@ TEST(SpecDefaults, RangeBoundariesAreAccepted) {
 
 TEST(SpecDefaults, ContractCrystalExampleParses) {
   const Spec spec = parse_spec_text(kContractCrystalExample);
-  EXPECT_EQ(spec.experiment, Experiment::crystal_compression);
+  EXPECT_STREQ(spec.name(), "crystal_compression");
   EXPECT_EQ(spec.label, "ref p0=60kPa");
   EXPECT_EQ(spec.normalized.at("experiment"), "crystal_compression");
   EXPECT_EQ(spec.normalized.at("grain").at("shape"), "rhombic_dodecahedron");
@@ -164,11 +167,17 @@ TEST(SpecNormalized, RoundTripIsAFixedPoint) {
     const Spec from_text = parse_spec_text(first.normalized.dump());
     EXPECT_EQ(from_text.normalized, first.normalized);
     EXPECT_EQ(from_text.normalized.dump(), first.normalized.dump());
-    EXPECT_EQ(again.experiment, first.experiment);
+    EXPECT_STREQ(again.name(), first.name());
     EXPECT_EQ(again.label, first.label);
     EXPECT_EQ(again.threads, first.threads);
-    EXPECT_EQ(again.two_cube.grain.edge_spheres, first.two_cube.grain.edge_spheres);
-    EXPECT_EQ(again.two_cube.material.friction, first.two_cube.material.friction);
+    if (std::string(first.name()) == "two_cube_sliding") {
+      EXPECT_EQ(again.as<TwoCubeSlidingExperiment>().params.grain.edge_spheres,
+                first.as<TwoCubeSlidingExperiment>().params.grain.edge_spheres);
+      EXPECT_EQ(again.as<TwoCubeSlidingExperiment>().params.material.friction,
+                first.as<TwoCubeSlidingExperiment>().params.material.friction);
+    } else {
+      EXPECT_EQ(again.as<CrystalCompressionExperiment>().params.rows_z, first.as<CrystalCompressionExperiment>().params.rows_z);
+    }
   }
 }
 
@@ -323,17 +332,16 @@ TEST(SpecErrors, ErrorsAreRuntimeErrors) {
 // ---------------------------------------------------------------------------------------------
 // 4. Result formats
 
-TwoCubeResult handmade_result() {
-  TwoCubeResult r;
-  r.curve = {{0.0, 1.0, 0.3, 1500.0, 450.0}, {0.1, 0.9, 0.27, 1350.0, 405.0}, {0.2, 0.8, 0.24, 1200.0, 360.0}};
+std::vector<TwoCubeRow> handmade_curve() {
+  return {{0.0, 1.0, 0.3, 1500.0, 450.0}, {0.1, 0.9, 0.27, 1350.0, 405.0}, {0.2, 0.8, 0.24, 1200.0, 360.0}};
+}
+
+RunStats handmade_stats() {
+  RunStats r;
+  r.grains = 2;
   r.sphere_diameter = 0.001;
-  r.spacing = 0.00025;
   r.normal_stiffness = 3.0e5;
-  r.p0 = 1500;
   r.time_step = 1e-7;
-  r.slide_speed = 0.016;
-  r.critical_prestrain = 0.003;
-  r.contact_end_slide = 0.99;
   r.spheres_per_face = 100;
   r.spheres = 1000;
   r.steps = 20000;
@@ -350,13 +358,19 @@ std::vector<std::string> lines_of(const std::string& text) {
   return lines;
 }
 
+std::string two_cube_csv(const std::vector<TwoCubeRow>& curve) {
+  std::string csv = curve_csv_header(TwoCubeRow::columns());
+  for (const TwoCubeRow& row : curve) csv += curve_csv_line(TwoCubeRow::columns(), row.values());
+  return csv;
+}
+
 TEST(Results, CurveCsvHeaderAndOneLinePerRow) {
-  const TwoCubeResult r = handmade_result();
-  const std::string csv = curve_csv(r);
+  const std::vector<TwoCubeRow> curve = handmade_curve();
+  const std::string csv = two_cube_csv(curve);
   ASSERT_FALSE(csv.empty());
   EXPECT_EQ(csv.back(), '\n');
   const std::vector<std::string> lines = lines_of(csv);
-  ASSERT_EQ(lines.size(), r.curve.size() + 1);
+  ASSERT_EQ(lines.size(), curve.size() + 1);
   EXPECT_EQ(lines[0], "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force");
   EXPECT_EQ(lines[1], "0,1,0.3,1500,450");
   for (std::size_t i = 1; i < lines.size(); ++i) {
@@ -365,7 +379,7 @@ TEST(Results, CurveCsvHeaderAndOneLinePerRow) {
     std::vector<double> values;
     for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
     ASSERT_EQ(values.size(), 5u);
-    const TwoCubeRow& expected = r.curve[i - 1];
+    const TwoCubeRow& expected = curve[i - 1];
     EXPECT_DOUBLE_EQ(values[0], expected.slide_over_size);
     EXPECT_DOUBLE_EQ(values[1], expected.normal_over_p0);
     EXPECT_DOUBLE_EQ(values[2], expected.tangential_over_p0);
@@ -375,14 +389,19 @@ TEST(Results, CurveCsvHeaderAndOneLinePerRow) {
 }
 
 TEST(Results, CurveCsvOfEmptyCurveIsTheHeaderAlone) {
-  EXPECT_EQ(curve_csv(TwoCubeResult{}),
-            "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force\n");
+  EXPECT_EQ(two_cube_csv({}), "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force\n");
 }
 
-TEST(Results, SummaryJsonHasTheContractKeys) {
-  const TwoCubeResult r = handmade_result();
-  const json spec = parse_spec_text("{}").normalized;
-  const json s = summary_json(r, spec);
+TEST(Results, CrystalCountsAreIntegersAndTheEnergyRatioHasSixDigits) {
+  CrystalRow row{0.001, 61234.5678912, 60000, 612.345678912, -1e-5, 2e-5, 59999.5, 1.23456789e-3, 193012, 12};
+  EXPECT_EQ(curve_csv_line(CrystalRow::columns(), row.values()),
+            "0.001,61234.5679,60000,612.345679,-1e-05,2e-05,59999.5,0.00123457,193012,12\n");
+}
+
+TEST(Results, SummaryJsonHasTheContractKeysWithUnits) {
+  JsonSummaryWriter w;
+  write_run_stats(w, handmade_stats());
+  const json s = w.document();
   for (const char* key : {"spheres", "grains", "steps", "time_step", "wall_seconds", "threads",
                           "sphere_steps_per_second", "sphere_diameter", "normal_stiffness", "spheres_per_face"}) {
     SCOPED_TRACE(key);
@@ -399,16 +418,40 @@ TEST(Results, SummaryJsonHasTheContractKeys) {
   EXPECT_DOUBLE_EQ(s.at("sphere_diameter").get<double>(), 0.001);
   EXPECT_DOUBLE_EQ(s.at("normal_stiffness").get<double>(), 3.0e5);
   EXPECT_EQ(s.at("spheres_per_face"), 100);
-  EXPECT_EQ(s.at("spec"), spec);
-  EXPECT_EQ(s.at("experiment"), "two_cube_sliding");
+  // Units by dotted key, nested groups included.
+  EXPECT_EQ(w.units().at("time_step"), "s");
+  EXPECT_EQ(w.units().at("normal_stiffness"), "N/m");
+  EXPECT_EQ(w.units().at("stage_seconds.contact_forces"), "s");
 }
 
 TEST(Results, SummaryJsonZeroWallTimeGivesZeroRate) {
-  TwoCubeResult r = handmade_result();
+  RunStats r = handmade_stats();
   r.wall_seconds = 0;
-  const json s = summary_json(r, json::object());
-  EXPECT_EQ(s.at("sphere_steps_per_second").get<double>(), 0.0);
-  EXPECT_FALSE(s.dump().empty());  // no inf/NaN that would make the JSON invalid
+  JsonSummaryWriter w;
+  write_run_stats(w, r);
+  EXPECT_EQ(w.document().at("sphere_steps_per_second").get<double>(), 0.0);
+  EXPECT_FALSE(w.document().dump().empty());  // no inf/NaN that would make the JSON invalid
+}
+
+TEST(Results, SummaryJsonListsAndGroups) {
+  JsonSummaryWriter w;
+  w.begin_group("peak");
+  w.number("deviator", 5.0, "Pa");
+  w.end_group();
+  w.begin_list("snapshots");
+  for (int k = 0; k < 2; ++k) {
+    w.begin_group(nullptr);
+    w.count("index", std::uint64_t(k));
+    w.number("strain", 0.01 * k, "-");
+    w.end_group();
+  }
+  w.end_list();
+  w.begin_list("warnings");
+  w.text(nullptr, "a sentence");
+  w.end_list();
+  EXPECT_EQ(w.document(), json::parse(R"({"peak": {"deviator": 5.0}, "snapshots": [{"index": 0, "strain": 0.0},
+      {"index": 1, "strain": 0.01}], "warnings": ["a sentence"]})"));
+  EXPECT_EQ(w.units(), json::parse(R"({"peak.deviator": "Pa", "snapshots[].strain": "-"})"));
 }
 
 }  // namespace
@@ -420,13 +463,13 @@ namespace {
 // Without explicit snapshot strains, the paper's list is cut at max_strain instead of failing.
 TEST(SpecDefaults, DefaultSnapshotsStopAtMaxStrain) {
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02}})");
-  EXPECT_EQ(spec.crystal.snapshot_strains, (std::vector<double>{0.0, 0.01, 0.02}));
+  EXPECT_EQ(spec.as<CrystalCompressionExperiment>().params.snapshot_strains, (std::vector<double>{0.0, 0.01, 0.02}));
 }
 
 // The platens' friction follows the grains' unless given.
 TEST(SpecDefaults, WallFrictionFollowsMaterialFriction) {
-  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "material": {"friction": 0.2}})").crystal.wall_friction, 0.2);
-  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"wall_friction": 1.5}})").crystal.wall_friction, 1.5);
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "material": {"friction": 0.2}})").as<CrystalCompressionExperiment>().params.wall_friction, 0.2);
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"wall_friction": 1.5}})").as<CrystalCompressionExperiment>().params.wall_friction, 1.5);
 }
 
 }  // namespace

@@ -318,3 +318,82 @@ TEST_F(Daemon, CliRemoteCommands) {
 
 }  // namespace
 }  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// Long enough (a few seconds) that the curve can be watched while it grows.
+const char* kSlowCrystal = R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+  "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
+  "loading": {"confining_pressure": 30e3, "max_strain": 0.03, "rate_number": 2e-6},
+  "output": {"curve_points": 200, "snapshot_strains": [0.0, 0.01, 0.02]}})";
+
+std::size_t rows_of(const std::string& csv) { return std::count(csv.begin(), csv.end(), '\n') - 1; }
+
+// A running job's curve is served as it grows (rows reach the store in batches, every 0.05 s here), each
+// view a prefix of the final curve; snapshots appear as they are taken; a job cancelled midway keeps the
+// rows it computed, identical to the same rows of a complete run.
+TEST_F(Daemon, LiveCurveGrowsAndACancelledJobKeepsItsRows) {
+  pool_->start();
+  const std::string path = "/v1/jobs/" + std::to_string(post("/v1/jobs", kSlowCrystal, 201)["id"].get<std::int64_t>());
+  std::vector<std::string> seen;  // distinct partial curves seen while the job ran
+  std::size_t snapshots_while_running = 0;
+  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120); std::chrono::steady_clock::now() < until;) {
+    const std::string status = get(path)["status"];
+    if (status == "succeeded" || status == "failed") break;
+    auto r = client_->Get((path + "/curve?format=csv").c_str());
+    ASSERT_TRUE(r);
+    if (status == "running" && r->status == 200 && (seen.empty() || r->body != seen.back())) {
+      if (get(path)["status"] == "running") {
+        seen.push_back(r->body);
+        snapshots_while_running = std::max(snapshots_while_running, get(path + "/snapshots")["snapshots"].size());
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(get(path)["status"], "succeeded");
+  auto final_csv = client_->Get((path + "/curve?format=csv").c_str());
+  ASSERT_TRUE(final_csv);
+  const std::size_t total = rows_of(final_csv->body);
+  EXPECT_GT(total, 150u);
+  ASSERT_GE(seen.size(), 3u) << "the curve was not seen growing while the job ran";
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    EXPECT_EQ(final_csv->body.compare(0, seen[k].size(), seen[k]), 0) << "view " << k << " is not a prefix";
+    if (k) EXPECT_GT(rows_of(seen[k]), rows_of(seen[k - 1]));
+  }
+  EXPECT_LT(rows_of(seen.front()), total);
+  EXPECT_GE(snapshots_while_running, 1u);
+  // The JSON form while running has the same columns.
+  EXPECT_EQ(get(path + "/curve")["columns"][0], "strain");
+
+  // The same spec again, cancelled once it has some rows: it keeps them.
+  const std::string second = "/v1/jobs/" + std::to_string(post("/v1/jobs", kSlowCrystal, 201)["id"].get<std::int64_t>());
+  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120); std::chrono::steady_clock::now() < until;) {
+    auto r = client_->Get((second + "/curve?format=csv").c_str());
+    if (r && r->status == 200 && rows_of(r->body) >= 10) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  post(second + "/cancel", "", 202);
+  ASSERT_EQ(wait(std::stoll(second.substr(9)))["status"], "cancelled");
+  auto kept = client_->Get((second + "/curve?format=csv").c_str());
+  ASSERT_TRUE(kept);
+  ASSERT_EQ(kept->status, 200);
+  EXPECT_GE(rows_of(kept->body), 10u);
+  EXPECT_LT(rows_of(kept->body), total);
+  EXPECT_EQ(final_csv->body.compare(0, kept->body.size(), kept->body), 0);
+  EXPECT_EQ(get(second + "/curve")["strain"].size(), rows_of(kept->body));
+}
+
+// The registry, as clients see it.
+TEST_F(Daemon, ExperimentsAreDescribedFromTheRegistry) {
+  const json e = get("/v1/experiments");
+  ASSERT_EQ(e["experiments"].size(), experiment_types().size());
+  for (std::size_t k = 0; k < experiment_types().size(); ++k) {
+    EXPECT_EQ(e["experiments"][k]["name"], experiment_types()[k].name);
+    EXPECT_FALSE(e["experiments"][k]["fields"].empty());
+    EXPECT_FALSE(e["experiments"][k]["curve_columns"].empty());
+  }
+}
+
+}  // namespace
+}  // namespace granulab::server

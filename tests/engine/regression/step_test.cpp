@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <new>
 
-#include "engine/experiments/model.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 namespace {

@@ -29,7 +29,7 @@
 
 #include "engine/analysis/grain_kinematics.h"
 #include "engine/boundary/membrane.h"
-#include "engine/experiments/crystal_lattice.h"
+#include "engine/crystal/crystal_lattice.h"
 
 namespace granulab {
 namespace {
@@ -44,7 +44,13 @@ constexpr double kPrestrain = 0.001;  // eps0
 // to a' is rounding plus a > 50x margin, and still 1e10 x finer than any geometric distinction tested.
 constexpr double kRel = 1e-12;
 
-using Pair = std::pair<std::uint32_t, std::uint32_t>;
+using Pair = BodyPair;
+
+std::vector<GrainId> grain_ids(std::initializer_list<std::uint32_t> ids) {
+  std::vector<GrainId> out;
+  for (std::uint32_t id : ids) out.push_back(GrainId(id));
+  return out;
+}
 
 // ------------------------------------------------------------------------------------------------
 // Helpers
@@ -94,7 +100,7 @@ std::vector<Pair> brute_force_pairs(const std::vector<Vec3>& x, double cutoff) {
   std::vector<Pair> pairs;
   for (std::uint32_t i = 0; i < x.size(); ++i)
     for (std::uint32_t j = i + 1; j < x.size(); ++j)
-      if ((x[j] - x[i]).norm() < cutoff) pairs.emplace_back(i, j);
+      if ((x[j] - x[i]).norm() < cutoff) pairs.push_back({i, j});
   return pairs;
 }
 
@@ -148,11 +154,11 @@ TEST_P(CrystalSizeTest, HasOneSitePerColumnRowLayerWithUniqueIdsInRange) {
   std::set<std::uint32_t> ids;
   std::set<std::tuple<int, int, int>> slots;
   for (const LatticeSite& s : c.sites) {
-    EXPECT_LT(s.id, n_box);
-    ids.insert(s.id);
+    EXPECT_LT(value(s.id), n_box);
+    ids.insert(value(s.id));
     EXPECT_TRUE(s.column >= 0 && s.column < g.grains_x && s.row >= 0 && s.row < g.rows_z && s.layer >= 0 &&
                 s.layer < g.layers_y)
-        << "site " << s.id;
+        << "site " << value(s.id);
     slots.emplace(s.column, s.row, s.layer);
   }
   EXPECT_EQ(ids.size(), n_box);    // unique, and with the range check: exactly 0..n-1
@@ -212,12 +218,12 @@ TEST_P(CrystalSizeTest, InteriorGrainsTouchTwelveNeighboursFaceToFace) {
     std::set<std::size_t> matched;
     for (const LatticeSite& o : c.sites) {
       const Vec3 d = o.position - s.position;
-      if (o.id == s.id || std::abs(d.norm() - contact) > kRel * a) continue;  // kRel: see definition
+      if (value(o.id) == value(s.id) || std::abs(d.norm() - contact) > kRel * a) continue;  // kRel: see definition
       const Vec3 dir = to_crystal * d.normalized();
       for (std::size_t k = 0; k < normals.size(); ++k)
         if ((dir - normals[k]).norm() < kRel) matched.insert(k);  // unit vectors; normals are >= 1 apart
     }
-    EXPECT_EQ(matched.size(), 12u) << "interior grain " << s.id << " (" << s.column << "," << s.row << ","
+    EXPECT_EQ(matched.size(), 12u) << "interior grain " << value(s.id) << " (" << s.column << "," << s.row << ","
                                    << s.layer << ")";
   }
   const std::size_t expected_interior = std::size_t(g.grains_x - 2) * (g.rows_z - 2) * (g.layers_y - 2);
@@ -232,8 +238,8 @@ TEST_P(CrystalSizeTest, InteriorGrainsHaveExactlyTwelveNeighboursAtContactDistan
     if (!is_interior(s, g)) continue;
     int at_contact = 0;
     for (const LatticeSite& o : c.sites)
-      if (o.id != s.id && std::abs((o.position - s.position).norm() - contact) <= kRel * a) ++at_contact;
-    EXPECT_EQ(at_contact, 12) << "interior grain " << s.id;
+      if (value(o.id) != value(s.id) && std::abs((o.position - s.position).norm() - contact) <= kRel * a) ++at_contact;
+    EXPECT_EQ(at_contact, 12) << "interior grain " << value(s.id);
   }
 }
 
@@ -244,7 +250,7 @@ TEST_P(CrystalSizeTest, LayersAreSpacedAlongYRowsAlongZAndGrainsAlongX) {
   // Group x by (layer,row) and z likewise.
   std::map<std::pair<int, int>, std::map<int, Vec3>> rows;  // (layer,row) -> column -> position
   for (const LatticeSite& s : c.sites) {
-    EXPECT_NEAR(s.position.y(), y0 + s.layer * period.y(), kRel * a) << "site " << s.id;  // kRel: see definition
+    EXPECT_NEAR(s.position.y(), y0 + s.layer * period.y(), kRel * a) << "site " << value(s.id);  // kRel: see definition
     rows[{s.layer, s.row}][s.column] = s.position;
   }
   for (const auto& [key, row] : rows) {
@@ -316,7 +322,7 @@ class CrystalKnockoutTest : public testing::Test {
   const CrystalLattice full = build_crystal(full_geometry);
   std::map<std::uint32_t, Vec3> full_positions() const {
     std::map<std::uint32_t, Vec3> m;
-    for (const LatticeSite& s : full.sites) m[s.id] = s.position;
+    for (const LatticeSite& s : full.sites) m[value(s.id)] = s.position;
     return m;
   }
   /// The remaining sites must be the full lattice's sites minus `removed`, each at its original position.
@@ -326,10 +332,10 @@ class CrystalKnockoutTest : public testing::Test {
     const auto before = full_positions();
     std::set<std::uint32_t> kept;
     for (const LatticeSite& s : c.sites) {
-      EXPECT_EQ(removed.count(s.id), 0u) << "site " << s.id << " should be knocked out";
-      ASSERT_EQ(before.count(s.id), 1u);
-      EXPECT_EQ(s.position, before.at(s.id)) << "site " << s.id << " moved";  // same arithmetic: bit-identical
-      kept.insert(s.id);
+      EXPECT_EQ(removed.count(value(s.id)), 0u) << "site " << value(s.id) << " should be knocked out";
+      ASSERT_EQ(before.count(value(s.id)), 1u);
+      EXPECT_EQ(s.position, before.at(value(s.id))) << "site " << value(s.id) << " moved";  // same arithmetic: bit-identical
+      kept.insert(value(s.id));
     }
     EXPECT_EQ(kept.size(), c.sites.size());
   }
@@ -337,23 +343,23 @@ class CrystalKnockoutTest : public testing::Test {
 
 TEST_F(CrystalKnockoutTest, ByIdRemovesExactlyThoseIds) {
   CrystalGeometry g = full_geometry;
-  g.knockout_ids = {0, 5, 431, 432, 863};
+  g.knockout_ids = grain_ids({0, 5, 431, 432, 863});
   expect_full_minus(build_crystal(g), {0, 5, 431, 432, 863});
 }
 
 TEST_F(CrystalKnockoutTest, RepeatedIdIsRemovedOnce) {
   CrystalGeometry g = full_geometry;
-  g.knockout_ids = {17, 17};
+  g.knockout_ids = grain_ids({17, 17});
   expect_full_minus(build_crystal(g), {17});
 }
 
 TEST_F(CrystalKnockoutTest, OutOfRangeIdThrows) {
   CrystalGeometry g = full_geometry;
-  g.knockout_ids = {863};
+  g.knockout_ids = grain_ids({863});
   EXPECT_NO_THROW(build_crystal(g));
-  g.knockout_ids = {864};
+  g.knockout_ids = grain_ids({864});
   EXPECT_THROW(build_crystal(g), std::invalid_argument);
-  g.knockout_ids = {3, 1000000};
+  g.knockout_ids = grain_ids({3, 1000000});
   EXPECT_THROW(build_crystal(g), std::invalid_argument);
 }
 
@@ -377,8 +383,8 @@ TEST_P(KnockoutRegionTest, RemovesEveryGrainInsideTheCylinderInEveryLayerAndNone
   for (const LatticeSite& s : full.sites) {
     const double dist = std::hypot(s.position.x() - r.x * kSize, s.position.z() - r.z * kSize);  // units of a
     // Guard: no centre within 1e-9 a of the cylinder, so inside/outside is not decided by rounding.
-    ASSERT_GT(std::abs(dist - r.radius * kSize), 1e-9 * kSize) << "site " << s.id << " sits on the cylinder";
-    if (dist < r.radius * kSize) inside.insert(s.id), layers.insert(s.layer);
+    ASSERT_GT(std::abs(dist - r.radius * kSize), 1e-9 * kSize) << "site " << value(s.id) << " sits on the cylinder";
+    if (dist < r.radius * kSize) inside.insert(value(s.id)), layers.insert(s.layer);
   }
   EXPECT_GE(inside.size(), GetParam().at_least);
   // Through the thickness: the cylinder axis is y, so every layer loses grains.
@@ -398,12 +404,12 @@ TEST_F(CrystalKnockoutTest, IdsAndRegionsCombine) {
   std::set<std::uint32_t> removed;
   const auto kept = [&](std::uint32_t id) {
     return std::any_of(region_only.sites.begin(), region_only.sites.end(),
-                       [id](const LatticeSite& s) { return s.id == id; });
+                       [id](const LatticeSite& s) { return value(s.id) == id; });
   };
   for (const LatticeSite& s : full.sites)
-    if (!kept(s.id)) removed.insert(s.id);
+    if (!kept(value(s.id))) removed.insert(value(s.id));
   const std::uint32_t in_region = *removed.begin();
-  g.knockout_ids = {0, in_region};  // one new, one already inside the region
+  g.knockout_ids = grain_ids({0, in_region});  // one new, one already inside the region
   removed.insert(0);
   expect_full_minus(build_crystal(g), removed);
 }
@@ -509,8 +515,8 @@ TEST_P(LocalStrainAffineTest, ReproducesTheInvariantsOfGreenLagrangeStrain) {
   std::size_t interior = 0;
   for (std::size_t i = 0; i < ref.size(); ++i) {
     interior += is_interior(c.sites[i], g);
-    EXPECT_NEAR(got[i].max_shear, expected.max_shear, 1e-10) << "grain " << c.sites[i].id;
-    EXPECT_NEAR(got[i].equivalent, expected.equivalent, 1e-10) << "grain " << c.sites[i].id;
+    EXPECT_NEAR(got[i].max_shear, expected.max_shear, 1e-10) << "grain " << value(c.sites[i].id);
+    EXPECT_NEAR(got[i].equivalent, expected.equivalent, 1e-10) << "grain " << value(c.sites[i].id);
   }
   EXPECT_EQ(interior, 6u * 16 * 4);  // the interior grains are among those checked
 }
@@ -574,10 +580,10 @@ TEST_P(InterfaceShiftTest, TangentialShiftOfOneGrainIsTheSlidingDistance) {
   ASSERT_LT(i, ref.size());
   std::vector<std::size_t> interfaces;  // indices into `pairs` of grain i's interfaces
   for (std::size_t k = 0; k < pairs.size(); ++k)
-    if (pairs[k].first == i || pairs[k].second == i) interfaces.push_back(k);
+    if (pairs[k].a == i || pairs[k].b == i) interfaces.push_back(k);
   ASSERT_EQ(interfaces.size(), 12u);
   const std::size_t k = interfaces[GetParam().neighbour];
-  const std::uint32_t other = pairs[k].first == i ? pairs[k].second : pairs[k].first;
+  const std::uint32_t other = pairs[k].a == i ? pairs[k].b : pairs[k].a;
 
   // A unit tangent of the interface: any vector orthogonal to the centre line, here from lab y or x.
   const Vec3 normal = (ref[other] - ref[i]).normalized();
@@ -597,7 +603,7 @@ TEST_P(InterfaceShiftTest, TangentialShiftOfOneGrainIsTheSlidingDistance) {
   // Interfaces of the shifted grain with its other neighbours also slide; untouched pairs do not (rounding
   // only, the bound of the rigid-motion test).
   for (std::size_t m = 0; m < pairs.size(); ++m)
-    if (pairs[m].first != other && pairs[m].second != other) {
+    if (pairs[m].a != other && pairs[m].b != other) {
       EXPECT_LT(sliding[m], 1e-13 * kSize) << "pair " << m;
     }
 }

@@ -42,7 +42,7 @@ struct Scene {
 
 std::set<PairId> listed_pairs(const NeighborList& list) {
   std::set<PairId> out;
-  for (const GrainPair& gp : list.grain_pairs())
+  for (const BodyPairSpan& gp : list.body_pairs())
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k)
       out.insert({gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])});
   return out;
@@ -69,9 +69,9 @@ TEST(NeighborList, MatchesBruteForceOnRandomClumps) {
     const std::set<PairId> expected = brute_force_pairs(s, s.grain.diameter() + skin);
     ASSERT_GT(expected.size(), 100u) << "the scene must have real overlaps to test anything";
     EXPECT_EQ(listed_pairs(list), expected) << "seed " << seed;
-    for (const GrainPair& gp : list.grain_pairs()) EXPECT_LT(gp.a, gp.b);  // never a pair inside one grain
+    for (const BodyPairSpan& gp : list.body_pairs()) EXPECT_LT(gp.a, gp.b);  // never a pair inside one grain
     // Blocks are sorted, which the history merge relies on.
-    for (const GrainPair& gp : list.grain_pairs())
+    for (const BodyPairSpan& gp : list.body_pairs())
       EXPECT_TRUE(std::is_sorted(list.keys().begin() + gp.first, list.keys().begin() + gp.first + gp.count));
   }
 }
@@ -99,7 +99,7 @@ TEST(NeighborList, RebuildCarriesHistoryOfSurvivingPairs) {
     return Vec3(std::get<0>(p) * 1000.0 + std::get<1>(p), std::get<2>(p), std::get<3>(p) + 0.5);
   };
   const std::set<PairId> before = listed_pairs(list);
-  for (const GrainPair& gp : list.grain_pairs())
+  for (const BodyPairSpan& gp : list.body_pairs())
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k)
       list.history()[k] = tag({gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])});
 
@@ -112,7 +112,7 @@ TEST(NeighborList, RebuildCarriesHistoryOfSurvivingPairs) {
   s.update();
   list.rebuild(s.bodies, s.spheres, s.walls);
   std::size_t kept = 0, fresh = 0;
-  for (const GrainPair& gp : list.grain_pairs())
+  for (const BodyPairSpan& gp : list.body_pairs())
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       const PairId id{gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])};
       if (before.count(id)) {

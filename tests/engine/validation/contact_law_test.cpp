@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "engine/contact/contact_law.h"
-#include "engine/experiments/model.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 namespace granulab {

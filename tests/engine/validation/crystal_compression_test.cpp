@@ -8,8 +8,7 @@
 #include <cmath>
 #include <tuple>
 
-#include "api/results.h"
-#include "engine/experiments/crystal_compression.h"
+#include "engine/experiments/crystal_compression/crystal_compression.h"
 
 namespace granulab {
 namespace {
@@ -51,7 +50,7 @@ YieldRun compress(CrystalParams p) {
   CrystalCompression experiment(p);
   const CrystalResult r = experiment.run();
   YieldRun out;
-  std::tie(out.peak_strain, out.peak) = api::first_yield_peak(r.curve, p.confining_pressure);
+  std::tie(out.peak_strain, out.peak) = first_yield_peak(r.curve, p.confining_pressure);
   for (const CrystalRow& row : r.curve) {
     if (row.deviator < out.peak / 2) continue;
     const double mean = (row.stress_top + row.stress_bottom) / 2;
@@ -92,7 +91,7 @@ TEST(CrystalCompression, FastRateIsNotQuasiStatic) {
 
 TEST(CrystalCompression, KnockoutsRemoveGrainsAndSnapshotsDescribeThem) {
   CrystalParams p = small_crystal(30e3);
-  p.knockout_ids = {0, 5};
+  p.knockout_ids = {GrainId(0), GrainId(5)};
   p.knockout_regions = {KnockoutRegion{0, 0, 0.8}};
   p.max_strain = 5e-4;
   p.snapshot_strains = {0.0, 5e-4};
@@ -102,9 +101,9 @@ TEST(CrystalCompression, KnockoutsRemoveGrainsAndSnapshotsDescribeThem) {
   EXPECT_GE(experiment.lattice().knocked_out, 2u + 3u);  // the ids, and the central column in 3 layers
   const CrystalResult r = experiment.run();
   ASSERT_EQ(r.snapshots.size(), 2u);
-  const CrystalSnapshot& s0 = r.snapshots[0];
+  const GrainSnapshot& s0 = r.snapshots[0];
   ASSERT_EQ(s0.id.size(), grains);
-  for (std::uint32_t id : s0.id) EXPECT_TRUE(id != 0 && id != 5);
+  for (GrainId id : s0.id) EXPECT_TRUE(value(id) != 0 && value(id) != 5);
   double mean_ratio = 0;
   for (std::size_t i = 0; i < grains; ++i) {
     EXPECT_EQ(s0.displacement[i], Vec3::Zero());  // the reference state itself
@@ -114,7 +113,7 @@ TEST(CrystalCompression, KnockoutsRemoveGrainsAndSnapshotsDescribeThem) {
   EXPECT_NEAR(mean_ratio, 1.0, 1e-12);  // Delta / mean Delta averages to one by definition
   EXPECT_GT(s0.interfaces.size(), grains);
   // Under compression the grains move and strain.
-  const CrystalSnapshot& s1 = r.snapshots[1];
+  const GrainSnapshot& s1 = r.snapshots[1];
   double max_disp = 0, max_strain = 0;
   for (std::size_t i = 0; i < grains; ++i) {
     max_disp = std::max(max_disp, s1.displacement[i].norm());
@@ -139,7 +138,8 @@ CrystalParams centre_knockout() {
   CrystalParams p;
   p.grain.edge_spheres = 4;
   p.confining_pressure = 60e3;
-  p.knockout_ids = {68, 75, 76, 211, 220, 355, 356, 363, 500, 507, 508, 643, 652, 788, 795};
+  for (std::uint32_t id : {68, 75, 76, 211, 220, 355, 356, 363, 500, 507, 508, 643, 652, 788, 795})
+    p.knockout_ids.push_back(GrainId(id));
   return p;
 }
 

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "engine/experiments/model.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 namespace granulab {

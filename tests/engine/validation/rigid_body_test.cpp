@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "engine/dynamics/integrator.h"
-#include "engine/experiments/model.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 namespace granulab {

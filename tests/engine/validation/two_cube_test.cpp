@@ -10,7 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "engine/experiments/two_cube_sliding.h"
+#include "engine/experiments/two_cube_sliding/two_cube_sliding.h"
 
 namespace granulab {
 namespace {

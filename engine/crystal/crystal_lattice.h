@@ -1,4 +1,4 @@
-// The FCC crystal of identical rhombic dodecahedra in the "off-axis" orientation (MODEL.md, Experiment 2):
+// The FCC crystal of identical rhombic dodecahedra in the "off-axis" orientation (docs/model.md, "Crystal lattice"):
 // lab x || [1 -1 0]/sqrt2, lab y || [1 1 1]/sqrt3 (the front face is a {111} plane), lab z || [-1 -1 2]/sqrt6
 // (the compression axis). In that frame the lattice is spanned by
 //   b1 = a'/2 [1 -1 0] = (a'/sqrt2, 0, 0)                   along a row (x)
@@ -28,12 +28,12 @@ struct CrystalGeometry {
   double size = 0.01;      ///< RD cubic cell a (m)
   double prestrain = 0;    ///< eps0 (-), the lattice is built with cell (1 - eps0) a
   int grains_x = 8, rows_z = 18, layers_y = 6;
-  std::vector<std::uint32_t> knockout_ids;
+  std::vector<GrainId> knockout_ids;
   std::vector<KnockoutRegion> knockout_regions;
 };
 
 struct LatticeSite {
-  std::uint32_t id;  ///< stable grain id
+  GrainId id;  ///< stable grain id
   int column, row, layer;
   Vec3 position;     ///< lab frame, sample centre at the origin (m)
 };

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/experiments/model.h"
-#include "engine/experiments/progress.h"
+#include "engine/experiments/result_sink.h"
+#include "engine/model/model.h"
 #include "engine/world/world.h"
 
 namespace granulab {
@@ -25,23 +25,25 @@ struct TwoCubeParams {
 };
 
 struct TwoCubeRow {
-  double slide_over_size, normal_over_p0, tangential_over_p0;
-  double normal_force;      ///< P, compressive positive (N)
-  double tangential_force;  ///< T, positive when it resists the slide (N)
+  double slide_over_size;     ///< u / l (-)
+  double normal_over_p0;      ///< P / P0 (-)
+  double tangential_over_p0;  ///< T / P0 (-)
+  double normal_force;        ///< P, compressive positive (N)
+  double tangential_force;    ///< T, positive when it resists the slide (N)
+
+  /// The curve's columns (CONTRACT.md), in the order of values().
+  static const std::vector<CurveColumn>& columns();
+  std::vector<double> values() const;
 };
 
 struct TwoCubeResult {
   std::vector<TwoCubeRow> curve;
-  double sphere_diameter = 0, spacing = 0, normal_stiffness = 0, p0 = 0, time_step = 0;
+  RunStats run;                    ///< steps, timings and model numbers (d, k_n, N_f)
+  double spacing = 0;              ///< sphere spacing s = d(1 - kappa) (m)
+  double p0 = 0;                   ///< P0 = E l^2 eps0 (N)
   double slide_speed = 0;          ///< m/s
-  double critical_prestrain = 0;   ///< (d - sqrt(d^2 - s^2)) / l
-  double contact_end_slide = 0;    ///< theory: u/l where the last sphere pair separates
-  int spheres_per_face = 0;
-  std::size_t spheres = 0;
-  std::uint64_t steps = 0, rebuilds = 0;
-  double wall_seconds = 0;
-  int threads = 1;
-  StageTimes stage_times;
+  double critical_prestrain = 0;   ///< (d - sqrt(d^2 - s^2)) / l (-)
+  double contact_end_slide = 0;    ///< theory: u/l where the last sphere pair separates (-)
 };
 
 class TwoCubeSliding {
@@ -59,8 +61,13 @@ class TwoCubeSliding {
   double normal_force() const;
   double tangential_force() const;
 
-  /// Slides from u = 0 to max_slide * l; `progress` may stop the run (throws Cancelled).
-  TwoCubeResult run(const ProgressFn& progress = nullptr);
+  /// Slides from u = 0 to max_slide * l, each curve row to `sink` as it is recorded; the sink may stop
+  /// the run (throws Cancelled).
+  TwoCubeResult run(ResultSink& sink);
+  TwoCubeResult run() {
+    ResultSink none;
+    return run(none);
+  }
 
  private:
   TwoCubeParams params_;

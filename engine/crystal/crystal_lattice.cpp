@@ -1,4 +1,4 @@
-#include "engine/experiments/crystal_lattice.h"
+#include "engine/crystal/crystal_lattice.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,9 +27,9 @@ CrystalLattice build_crystal(const CrystalGeometry& g) {
   c.extent = Vec3(g.grains_x * px, g.layers_y * py, g.rows_z * pz);
 
   const std::uint32_t n_box = std::uint32_t(g.grains_x) * g.rows_z * g.layers_y;
-  for (std::uint32_t id : g.knockout_ids)
-    if (id >= n_box)
-      throw std::invalid_argument("knock-out id " + std::to_string(id) + " is outside the crystal (ids 0.." +
+  for (GrainId id : g.knockout_ids)
+    if (value(id) >= n_box)
+      throw std::invalid_argument("knock-out id " + std::to_string(value(id)) + " is outside the crystal (ids 0.." +
                                   std::to_string(n_box - 1) + ")");
 
   // The sites of the infinite lattice k b3 + j b2 + i b1 that fall inside the box, which starts a quarter
@@ -47,7 +47,7 @@ CrystalLattice build_crystal(const CrystalGeometry& g) {
         if (column < 0 || column >= g.grains_x) continue;
         LatticeSite s;
         s.layer = k, s.row = row, s.column = column;
-        s.id = std::uint32_t((k * g.rows_z + row) * g.grains_x + column);
+        s.id = GrainId((k * g.rows_z + row) * g.grains_x + column);
         s.position = Vec3(x, k * py, z);
         c.sites.push_back(s);
       }

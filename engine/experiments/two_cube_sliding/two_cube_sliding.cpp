@@ -1,8 +1,7 @@
-#include "engine/experiments/two_cube_sliding.h"
+#include "engine/experiments/two_cube_sliding/two_cube_sliding.h"
 
 #include <chrono>
 #include <cmath>
-#include <omp.h>
 #include <stdexcept>
 
 namespace granulab {
@@ -41,7 +40,22 @@ void TwoCubeSliding::place_at(double u) {
 double TwoCubeSliding::normal_force() const { return world_.bodies().force[top_].z(); }
 double TwoCubeSliding::tangential_force() const { return -world_.bodies().force[top_].x(); }
 
-TwoCubeResult TwoCubeSliding::run(const ProgressFn& progress) {
+const std::vector<CurveColumn>& TwoCubeRow::columns() {
+  static const std::vector<CurveColumn> c = {
+      {"slide_over_size", "-", "u / l, slide of the top cube over the cube side"},
+      {"normal_over_p0", "-", "P / P0, P0 = E l^2 eps0"},
+      {"tangential_over_p0", "-", "T / P0"},
+      {"normal_force", "N", "P, compressive positive"},
+      {"tangential_force", "N", "T, positive when it resists the slide"},
+  };
+  return c;
+}
+
+std::vector<double> TwoCubeRow::values() const {
+  return {slide_over_size, normal_over_p0, tangential_over_p0, normal_force, tangential_force};
+}
+
+TwoCubeResult TwoCubeSliding::run(ResultSink& sink) {
   const auto start = std::chrono::steady_clock::now();
   const TwoCubeParams& p = params_;
   const double l = p.grain.size, d = grain_.diameter(), s = grain_.spacing();
@@ -59,6 +73,7 @@ TwoCubeResult TwoCubeSliding::run(const ProgressFn& progress) {
   auto record = [&](double u) {
     const double pn = normal_force(), t = tangential_force();
     r.curve.push_back({u / l, pn / p0_, t / p0_, pn, t});
+    sink.curve_row(r.curve.back().values());
   };
   place_at(0);
   record(0);
@@ -67,25 +82,17 @@ TwoCubeResult TwoCubeSliding::run(const ProgressFn& progress) {
   for (int k = 1; k <= points; ++k) {
     for (std::uint64_t i = 0; i < per_point; ++i) world_.step();
     record(world_.bodies().position[top_].x());
-    if (progress && !progress(double(k) / points)) throw Cancelled();
+    if (!sink.progress(double(k) / points)) throw Cancelled();
   }
 
-  r.sphere_diameter = d;
   r.spacing = s;
-  r.normal_stiffness = world_.law().normal_stiffness;
   r.p0 = p0_;
-  r.time_step = dt;
   r.slide_speed = speed;
   r.critical_prestrain = (d - std::sqrt(d * d - s * s)) / l;
   const double approach = d - l * p.prestrain;
   r.contact_end_slide = (l - d + std::sqrt(d * d - approach * approach)) / l;
-  r.spheres_per_face = grain_.spheres_per_face();
-  r.spheres = world_.sphere_count();
-  r.steps = world_.steps() - first_step;
-  r.rebuilds = world_.rebuilds();
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.threads = omp_get_max_threads();
-  r.stage_times = world_.stage_times();
+  r.run = world_.run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  r.run.steps = world_.steps() - first_step;
   return r;
 }
 

@@ -1,4 +1,4 @@
-#include "engine/experiments/model.h"
+#include "engine/model/model.h"
 
 #include <cmath>
 

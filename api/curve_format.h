@@ -1,0 +1,21 @@
+// Curves as text: CSV (header row first, CONTRACT.md) written one row at a time from an experiment's
+// columns, and the JSON columns form that GET /v1/jobs/{id}/curve serves.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/experiments/result_sink.h"
+
+namespace granulab::api {
+
+/// "name1,name2,...\n"
+std::string curve_csv_header(const std::vector<CurveColumn>& columns);
+/// One row, newline included: each value with its column's significant digits (integers as integers).
+std::string curve_csv_line(const std::vector<CurveColumn>& columns, const std::vector<double>& values);
+/// CSV text (header row first, numeric cells) as {"columns": [names], "<name>": [values], ...}.
+nlohmann::json curve_csv_to_json(const std::string& csv);
+
+}  // namespace granulab::api

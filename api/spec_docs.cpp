@@ -1,0 +1,132 @@
+#include "api/spec_docs.h"
+
+#include <sstream>
+
+#include "api/spec.h"
+
+namespace granulab::api {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Describes each visited field; list items are visited once, as "key[].field".
+class FieldDescriber : public ParameterVisitor {
+ public:
+  nlohmann::json fields = nlohmann::json::array();
+
+  void section(const char* name) override { section_ = name; }
+  void number(const char* key, double& value, Range r, const char* unit, const char* meaning) override {
+    add(key, "number", value, unit, meaning).update({{"minimum", r.lo}, {"maximum", r.hi}, {"exclusive_minimum", r.lo_open}});
+  }
+  void integer(const char* key, int& value, long lo, long hi, const char* meaning) override {
+    add(key, "integer", value, "-", meaning).update({{"minimum", lo}, {"maximum", hi}});
+  }
+  void choice(const char* key, std::string& value, const std::vector<std::string>& allowed, const char* meaning) override {
+    add(key, "string", value, "", meaning)["choices"] = allowed;
+  }
+  void text(const char* key, std::string& value, std::size_t max_length, const char* meaning) override {
+    add(key, "string", value, "", meaning)["max_length"] = max_length;
+  }
+  void numbers(const char* key, std::vector<double>& values, Range r, std::size_t max_items, const char* unit,
+               const char* meaning) override {
+    add(key, "array of numbers", values, unit, meaning)
+        .update({{"minimum", r.lo}, {"maximum", r.hi}, {"exclusive_minimum", r.lo_open}, {"max_items", max_items}});
+  }
+  void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, std::size_t max_items,
+                 const char* meaning) override {
+    (void)values;
+    add(key, "array of grain ids", nlohmann::json::array(), "-", meaning)
+        .update({{"minimum", 0}, {"maximum", last}, {"max_items", max_items}});
+  }
+  std::size_t begin_list(const char* key, std::size_t max_items, const char* meaning) override {
+    add(key, "array of objects", nlohmann::json::array(), "", meaning)["max_items"] = max_items;
+    list_ = key;
+    return 1;
+  }
+  void begin_item(std::size_t) override { in_item_ = true; }
+  void end_item() override { in_item_ = false; }
+  void end_list() override { list_.clear(); }
+  void require(bool, const char*, const std::string&) override {}
+
+ private:
+  nlohmann::json& add(const char* key, const char* type, nlohmann::json value, const char* unit, const char* meaning) {
+    std::string name = in_item_ ? list_ + "[]." + key : key;
+    if (!section_.empty()) name = section_ + "." + name;
+    fields.push_back({{"field", name}, {"type", type}, {"default", value}, {"unit", unit}, {"meaning", meaning}});
+    return fields.back();
+  }
+  std::string section_, list_;
+  bool in_item_ = false;
+};
+
+std::string allowed_text(const nlohmann::json& f) {
+  if (f.contains("choices")) {
+    std::string s;
+    for (const auto& c : f["choices"]) s += (s.empty() ? "" : ", ") + ("`" + c.get<std::string>() + "`");
+    return s;
+  }
+  if (f.contains("max_length")) return "at most " + std::to_string(f["max_length"].get<std::size_t>()) + " characters";
+  if (!f.contains("minimum")) return "";
+  const bool open = f.value("exclusive_minimum", false);
+  std::string s = std::string(open ? "(" : "[") + fmt(f["minimum"].get<double>()) + ", " + fmt(f["maximum"].get<double>()) + "]";
+  if (f.contains("max_items")) s += ", at most " + std::to_string(f["max_items"].get<std::size_t>()) + " values";
+  return s;
+}
+
+std::string default_text(const nlohmann::json& d) {
+  if (d.is_string()) return d.get<std::string>().empty() ? "\"\"" : "`" + d.get<std::string>() + "`";
+  if (d.is_number_float()) return fmt(d.get<double>());
+  if (d.is_array() && !d.empty() && d[0].is_number_float()) {
+    std::string s;
+    for (const auto& x : d) s += (s.empty() ? "" : ", ") + fmt(x.get<double>());
+    return "[" + s + "]";
+  }
+  return d.dump();
+}
+
+}  // namespace
+
+nlohmann::json experiments_json() {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ExperimentType& t : experiment_types()) {
+    FieldDescriber d;
+    JobFields job;
+    job.experiment = t.name;
+    visit_job_fields(d, job);
+    std::unique_ptr<Experiment> e = t.make();
+    e->parameters(d);
+    nlohmann::json columns = nlohmann::json::array();
+    for (const CurveColumn& c : e->curve_columns())
+      columns.push_back({{"name", c.name}, {"unit", c.unit}, {"meaning", c.meaning}});
+    list.push_back({{"name", t.name}, {"title", t.title}, {"fields", d.fields}, {"curve_columns", columns}});
+  }
+  return {{"experiments", list}};
+}
+
+std::string experiments_markdown() {
+  std::string out =
+      "# The spec, field by field\n\n"
+      "Generated from the experiment registry (`granulab experiments --markdown`); a test keeps this file\n"
+      "equal to that output, so it is always what the code reads. Units are SI (`a`: grain sizes; `-`: none).\n"
+      "Every field has a default, so `{\"experiment\": \"<name>\"}` is a complete spec; unknown fields and values\n"
+      "outside the allowed range are rejected with a message that names the field.\n";
+  for (const nlohmann::json& e : experiments_json()["experiments"]) {
+    out += "\n## `" + e["name"].get<std::string>() + "`\n\n" + e["title"].get<std::string>() + ".\n\n";
+    out += "| field | default | allowed | unit | meaning |\n| --- | --- | --- | --- | --- |\n";
+    for (const nlohmann::json& f : e["fields"])
+      out += "| `" + f["field"].get<std::string>() + "` | " + default_text(f["default"]) + " | " + allowed_text(f) +
+             " | " + f["unit"].get<std::string>() + " | " + f["meaning"].get<std::string>() + " |\n";
+    out += "\nCurve columns (`curve.csv`, `GET /v1/jobs/{id}/curve`):\n\n| column | unit | meaning |\n| --- | --- | --- |\n";
+    for (const nlohmann::json& c : e["curve_columns"])
+      out += "| `" + c["name"].get<std::string>() + "` | " + c["unit"].get<std::string>() + " | " +
+             c["meaning"].get<std::string>() + " |\n";
+  }
+  return out;
+}
+
+}  // namespace granulab::api

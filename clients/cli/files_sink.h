@@ -1,0 +1,37 @@
+// The files of `granulab run SPEC --out DIR` (CONTRACT.md), written as the run makes them so a killed
+// run keeps what it computed: DIR/curve.csv grows a row at a time (flushed), each snapshot k is written
+// when taken as snapshots/snapshot_k.json (compact, what the server stores), .dump (LAMMPS text dump,
+// opens in OVITO), _grains.vtk and _interfaces.vtk (ParaView); summary.json, written last, marks a
+// finished run.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "api/job_sink.h"
+
+namespace granulab::cli {
+
+class FilesSink : public api::JobSink {
+ public:
+  /// Creates DIR and DIR/snapshots; removes a summary.json left by an earlier run.
+  FilesSink(const std::filesystem::path& dir, ProgressFn progress);
+  void begin(const std::vector<CurveColumn>& columns) override;
+  void curve_row(const std::vector<double>& values) override;
+  void snapshot(std::size_t index, const GrainSnapshot& s) override;
+  bool progress(double fraction) override { return !progress_ || progress_(fraction); }
+  /// Writes summary.json with the process's peak memory added.
+  void summary(const nlohmann::json& summary) override;
+
+ private:
+  std::filesystem::path dir_;
+  ProgressFn progress_;
+  std::vector<CurveColumn> columns_;
+  std::ofstream curve_;
+};
+
+/// Writes to a temporary name and renames, so a crash never leaves a half-written file.
+void write_file(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace granulab::cli

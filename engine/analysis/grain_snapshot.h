@@ -1,0 +1,31 @@
+// The state of every grain at one moment of a run, with the per-grain and per-interface measures of
+// the paper's Figs. 8, 9 and 11 (docs/model.md, "Snapshots and local strain"). Any experiment that
+// takes pictures of its grains hands these to its ResultSink; the api writes them as JSON, LAMMPS
+// dumps and VTK, the server stores them.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/types.h"
+
+namespace granulab {
+
+struct GrainSnapshot {
+  double strain = 0;       ///< axial strain when taken (-)
+  std::uint64_t step = 0;  ///< time steps since the world was built (-)
+  // Per grain, in ascending grain id.
+  std::vector<GrainId> id;
+  std::vector<Vec3> position;      ///< centre of mass (m)
+  std::vector<Vec3> displacement;  ///< since the reference state, the start of loading (m)
+  std::vector<Quat> orientation;   ///< body -> lab rotation (unit quaternion)
+  std::vector<double> penetration;        ///< Delta, sum of the sphere overlaps with other grains (m)
+  std::vector<double> penetration_ratio;  ///< Delta / mean Delta over the grains (-)
+  std::vector<double> max_shear_strain;   ///< gamma_max = (e1 - e3)/2 of the local Green-Lagrange strain (-)
+  std::vector<double> equivalent_strain;  ///< von Mises equivalent of the local Green-Lagrange strain (-)
+  // Per interface between neighbouring grains (in the reference state).
+  std::vector<GrainPair> interfaces;
+  std::vector<double> sliding;  ///< relative tangential displacement across the interface (m)
+};
+
+}  // namespace granulab

@@ -1,0 +1,56 @@
+#include "engine/crystal/confinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace granulab {
+
+ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress) {
+  ConfinementReport r;
+  const CrystalSampleParams& p = sample.params();
+  World& world = sample.world();
+  const double p0 = p.confining_pressure;
+  const std::size_t top = sample.top_wall(), bottom = sample.bottom_wall();
+  // Servo: wall speed = force error / (K tau). K = the stiffness of the wall's own contacts, an upper
+  // bound of the wall-sample stiffness (springs in series), so the force error decays no faster than
+  // with time constant tau, which is kept well above the sample's response time (~ L/c ~ 10 t0).
+  const double servo_time = 50 * sample.contact_time();
+  const double kn = world.law().normal_stiffness;
+  int good = 0;
+  const std::uint64_t start = world.steps();
+  while (world.steps() - start < p.max_confinement_steps) {
+    for (std::size_t w : {top, bottom}) {
+      Wall& wall = world.walls()[w];
+      const double error = (p0 - sample.wall_stress(w)) * sample.cross_section();  // N; > 0: push in
+      const double stiffness = kn * double(std::max<std::size_t>(1, wall.contacts));
+      // At most a tenth of the skin per step, so a wall far from contact cannot jump into the spheres.
+      const double max_speed = 0.1 * world.settings().skin / world.settings().time_step;
+      wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);
+    }
+    world.step();
+    if ((world.steps() - start) % p.membrane_interval != 0) continue;
+    sample.check_finite();
+    sample.update_membrane();
+    const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
+    const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
+                          std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
+    const bool quiet = ke <= p.kinetic_tolerance * ee;
+    good = walls_ok && quiet ? good + 1 : 0;
+    const double servo_steps = 20 * servo_time / world.settings().time_step;
+    if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
+    if (good >= p.equilibrium_checks) {
+      r.converged = true;
+      break;
+    }
+  }
+  for (Wall& w : world.walls()) w.velocity.setZero();
+  r.steps = world.steps() - start;
+  r.stress_top = sample.wall_stress(top);
+  r.stress_bottom = sample.wall_stress(bottom);
+  std::tie(r.lateral_stress_x, r.lateral_stress_y) = sample.lateral_stresses();
+  r.kinetic_elastic_ratio = sample.kinetic_elastic_ratio();
+  return r;
+}
+
+}  // namespace granulab

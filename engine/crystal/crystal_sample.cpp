@@ -1,0 +1,112 @@
+#include "engine/crystal/crystal_sample.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace granulab {
+
+namespace {
+
+WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate& grain) {
+  WorldSettings s;
+  s.time_step = p.time_step_factor *
+                contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
+  s.skin = p.skin_factor * grain.diameter();
+  return s;
+}
+
+CrystalGeometry lattice_geometry(const CrystalSampleParams& p) {
+  CrystalGeometry g;
+  g.size = p.grain.size;
+  g.prestrain = hydrostatic_prestrain(p.confining_pressure, p.material.youngs_modulus);
+  g.grains_x = p.grains_x, g.rows_z = p.rows_z, g.layers_y = p.layers_y;
+  g.knockout_ids = p.knockout_ids;
+  g.knockout_regions = p.knockout_regions;
+  return g;
+}
+
+}  // namespace
+
+double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
+  return std::sqrt(2.0) * confining_pressure / youngs_modulus;
+}
+
+double crystal_skin_factor(double overlap) {
+  const double neighbour_gap = std::sqrt(1 + (1 - overlap) * (1 - overlap)) - 1;
+  return std::min(0.01, 0.9 * neighbour_gap);
+}
+
+CrystalSample::CrystalSample(const CrystalSampleParams& params)
+    : params_(params),
+      grain_(params.grain),
+      lattice_(build_crystal(lattice_geometry(params))),
+      world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_)),
+      membrane_(params.confining_pressure, grain_.diameter() / 2, params.bridge_span * params.grain.size,
+                params.bridge_depth * params.grain.size) {
+  if (params.grain.shape != Shape::rhombic_dodecahedron)
+    throw std::invalid_argument("a crystal needs rhombic_dodecahedron grains");
+  if (!(hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus) < 0.1))
+    throw std::invalid_argument("confining pressure too high for the modulus");
+  if (lattice_.sites.size() < 2) throw std::invalid_argument("the crystal has fewer than two grains left");
+  const double density = params.material.density * params.mass_scaling;
+  for (const LatticeSite& s : lattice_.sites) {
+    const BodyId b = world_.add_grain(s.position, lattice_.orientation, density);
+    ids_.push_back(s.id);
+    if (s.column == 0) side_[0].push_back(b);
+    if (s.column == params.grains_x - 1) side_[1].push_back(b);
+    if (s.layer == 0) side_[2].push_back(b);
+    if (s.layer == params.layers_y - 1) side_[3].push_back(b);
+  }
+  // Walls just touching the outermost sphere surfaces of the end rows.
+  world_.compute_forces();
+  double lo = 1e300, hi = -1e300;
+  for (const Vec3& x : world_.sphere_positions()) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
+  Wall top{Vec3(0, 0, hi + grain_.radius()), -Vec3::UnitZ()}, bottom{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ()};
+  top.friction = bottom.friction = params.wall_friction;
+  top_ = world_.add_wall(top);
+  bottom_ = world_.add_wall(bottom);
+
+  cross_section_ = lattice_.extent.x() * lattice_.extent.y();
+  t0_ = contact_time_scale(grain_, params.material.youngs_modulus, density);
+  update_membrane();
+  world_.compute_forces();
+}
+
+void CrystalSample::update_membrane() {
+  membrane_.apply(world_.bodies().position, world_.sphere_positions(), grain_.sphere_count(), grain_.radius(),
+                  world_.external_force(), world_.external_torque());
+}
+
+void CrystalSample::check_finite() const {
+  const double ke = world_.kinetic_energy();
+  if (!std::isfinite(ke) || !std::isfinite(wall_stress(top_)) || !std::isfinite(wall_stress(bottom_)))
+    throw std::runtime_error("the simulation became unstable (non-finite energy or wall force) at step " +
+                             std::to_string(world_.steps()) + "; try a smaller run.time_step_factor");
+}
+
+double CrystalSample::wall_stress(std::size_t w) const {
+  const Wall& wall = world_.walls()[w];
+  return -wall.force.dot(wall.normal) / cross_section_;
+}
+
+double CrystalSample::kinetic_elastic_ratio() const {
+  const double ee = world_.contact_stats().elastic_energy;
+  return ee > 0 ? world_.kinetic_energy() / ee : 0;
+}
+
+std::pair<double, double> CrystalSample::lateral_stresses() const {
+  Vec3 fl = Vec3::Zero();  // sum of f_i l_i per axis
+  const auto& pairs = world_.neighbors().body_pairs();
+  const auto& forces = world_.pair_forces();
+  const auto& x = world_.bodies().position;
+  for (std::size_t p = 0; p < pairs.size(); ++p) fl += forces[p].cwiseProduct(x[pairs[p].a] - x[pairs[p].b]);
+  const MembraneStats& m = membrane_.stats();
+  const double width = m.load_centre[0] - m.load_centre[1], thickness = m.load_centre[2] - m.load_centre[3];
+  const double area_x = (m.area[0] + m.area[1]) / 2, area_y = (m.area[2] + m.area[3]) / 2;
+  return {area_x > 0 && width > 0 ? fl.x() / (area_x * width) : 0.0,
+          area_y > 0 && thickness > 0 ? fl.y() / (area_y * thickness) : 0.0};
+}
+
+}  // namespace granulab

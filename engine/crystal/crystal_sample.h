@@ -1,0 +1,102 @@
+// The crystal sample of the paper's experiment 2 (docs/model.md, "Crystal lattice", "Confinement"),
+// ready for any loading: an FCC crystal of rhombic dodecahedra built pre-strained by eps0 = sqrt2 p0 / E,
+// two platens just touching its end rows, and the vacuum bag on its four lateral faces. A crystal
+// experiment builds one, confines it (confinement.h), then loads it its own way.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "engine/boundary/membrane.h"
+#include "engine/crystal/crystal_lattice.h"
+#include "engine/model/model.h"
+#include "engine/world/world.h"
+
+namespace granulab {
+
+struct CrystalSampleParams {
+  GrainGeometry grain{Shape::rhombic_dodecahedron, 0.01, 10, 0.75};
+  Material material{};  // E = 3 GPa, rho = 1200, f = 0.35
+  int grains_x = 8, rows_z = 18, layers_y = 6;  ///< grains per row, rows, {111} layers (-)
+  std::vector<GrainId> knockout_ids;
+  std::vector<KnockoutRegion> knockout_regions;
+  double confining_pressure = 60e3;  ///< p0 (Pa)
+  double mass_scaling = 1.0;         ///< density factor (-)
+  double wall_friction = -1;         ///< platens' Coulomb coefficient (-); negative: material.friction
+  double time_step_factor = 0.2;     ///< dt / t0 (-)
+  double skin_factor = 0.01;         ///< skin / d (-); see crystal_skin_factor()
+  double bridge_span = 1.5;          ///< the bag spans holes: see Membrane; in grain sizes a (-)
+  double bridge_depth = 0.3;         ///< in grain sizes a (-); layers are a/sqrt3 = 0.577 a apart along y
+  int membrane_interval = 200;       ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
+  // Confinement (confinement.h).
+  double equilibrium_tolerance = 0.01;  ///< |wall stress - p0| / p0 (-)
+  double kinetic_tolerance = 1e-4;      ///< kinetic / elastic energy (-)
+  int equilibrium_checks = 3;           ///< consecutive membrane intervals meeting both (-)
+  std::uint64_t max_confinement_steps = 200000;
+};
+
+/// eps0 = sqrt2 p0 / E (-): the hydrostatic pre-strain at which the face overlaps of the FCC packing
+/// carry p0 (the Love-Weber stress of the packing is E eps0 / sqrt2).
+double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
+
+/// The default neighbour skin / d of a dense crystal (docs/model.md, "Time integration"). Only the
+/// touching, in-line sphere pairs should be candidates: the next sphere across a face sits at
+/// d sqrt(1 + (1 - kappa)^2) (1.031 d at kappa = 0.75), and a skin beyond that makes every contact drag
+/// its neighbours along (5x slower, measured). Once faces slide their sphere grids no longer line up and
+/// a sphere has ~ 2 pi d skin / s^2 candidates across a face (3 at 0.03 d, 1 at 0.01 d), while the
+/// platen's motion triggers a rebuild every skin/2 of travel: 0.01 d balances the two (reference crystal:
+/// 0.0039 s/step to 5 % strain, 0.0068 at 0.03 d; bench/README.md).
+double crystal_skin_factor(double overlap);
+
+class CrystalSample {
+ public:
+  /// Builds the lattice, the grains, the platens and the bag (not yet confined). Throws
+  /// std::invalid_argument on parameters the physics cannot run.
+  explicit CrystalSample(const CrystalSampleParams& params);
+
+  const CrystalSampleParams& params() const { return params_; }
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const GrainTemplate& grain() const { return grain_; }
+  const CrystalLattice& lattice() const { return lattice_; }
+  /// The stable grain id of each body.
+  const std::vector<GrainId>& grain_ids() const { return ids_; }
+  const MembraneStats& membrane_stats() const { return membrane_.stats(); }
+  std::size_t top_wall() const { return top_; }
+  std::size_t bottom_wall() const { return bottom_; }
+  /// Bodies on the -x, +x, -y, +y sides of the lattice (k = 0..3).
+  const std::vector<BodyId>& side(int k) const { return side_[k]; }
+  /// Lattice cross-section normal to z (m^2): what wall forces are divided by.
+  double cross_section() const { return cross_section_; }
+  /// t0 of the grain with mass scaling (s).
+  double contact_time() const { return t0_; }
+
+  /// Wall force along its inward normal over the cross-section, compressive positive (Pa).
+  double wall_stress(std::size_t wall) const;
+  /// Mean lateral stresses (sigma_xx, sigma_yy) carried by the packing (Pa): the contact forces' sum of
+  /// f_x l_x (l = branch vector between grain centres) over the bag's projected area on the x faces
+  /// times the distance between the load centres of the two x faces (same for y). By the virial
+  /// identity this equals p0 when every grain is in equilibrium under contacts and bag alone, so it
+  /// measures how well the packing carries the bag's load (inertia or wall shear show up as a gap).
+  std::pair<double, double> lateral_stresses() const;
+  /// Kinetic over elastic energy of the contacts (-), 0 without contacts.
+  double kinetic_elastic_ratio() const;
+  /// Re-detects the bag's surface and recomputes its forces.
+  void update_membrane();
+  /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
+  void check_finite() const;
+
+ private:
+  CrystalSampleParams params_;
+  GrainTemplate grain_;
+  CrystalLattice lattice_;
+  World world_;
+  Membrane membrane_;
+  std::vector<GrainId> ids_;
+  std::size_t top_ = 0, bottom_ = 1;
+  double cross_section_ = 0, t0_ = 0;
+  std::vector<BodyId> side_[4];
+};
+
+}  // namespace granulab

@@ -1,0 +1,13 @@
+// The spec fields of a crystal sample, shared by every crystal experiment: "grain", "material", the
+// "crystal" section, loading.confining_pressure, loading.mass_scaling, loading.wall_friction and the
+// engine knobs of "run", with the rules between them (see engine/experiments/parameters.h).
+#pragma once
+
+#include "engine/crystal/crystal_sample.h"
+#include "engine/experiments/parameters.h"
+
+namespace granulab {
+
+void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p);
+
+}  // namespace granulab

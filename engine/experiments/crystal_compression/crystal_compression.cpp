@@ -1,0 +1,191 @@
+#include "engine/experiments/crystal_compression/crystal_compression.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "engine/analysis/grain_kinematics.h"
+
+namespace granulab {
+
+namespace {
+
+double mean_coordinate(const std::vector<BodyId>& bodies, const std::vector<Vec3>& x, int axis) {
+  double s = 0;
+  for (BodyId b : bodies) s += x[b][axis];
+  return bodies.empty() ? 0 : s / bodies.size();
+}
+
+// Strains at which curve rows are recorded: a quarter of the rows over the first 2.5 % of the run,
+// where the crystal goes from elastic to its first yield at strains of order 10 p0 / E, and the rest
+// evenly over the whole run.
+std::vector<double> curve_strains(double max_strain, int points) {
+  std::vector<double> at;
+  const int early = std::max(1, points / 4), late = std::max(1, points - early);
+  for (int k = 1; k <= early; ++k) at.push_back(0.025 * max_strain * k / early);
+  for (int k = 1; k <= late; ++k) at.push_back(max_strain * k / late);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  return at;
+}
+
+}  // namespace
+
+const std::vector<CurveColumn>& CrystalRow::columns() {
+  static const std::vector<CurveColumn> c = {
+      {"strain", "-", "axial strain: platen approach / initial length"},
+      {"stress_top", "Pa", "top platen force / initial cross-section, compressive positive"},
+      {"stress_bottom", "Pa", "bottom platen force / initial cross-section, compressive positive"},
+      {"deviator", "Pa", "mean of the two platen stresses - p0"},
+      {"lateral_strain_x", "-", "change of width / width, extension positive"},
+      {"lateral_strain_y", "-", "change of thickness / thickness, extension positive"},
+      {"lateral_stress", "Pa", "mean lateral stress the packing carries (virial)"},
+      {"kinetic_elastic_ratio", "-", "kinetic / elastic energy", 6},
+      {"contacts", "-", "sphere pairs in contact", 0},
+      {"sliding_contacts", "-", "of which at the Coulomb limit", 0},
+  };
+  return c;
+}
+
+std::vector<double> CrystalRow::values() const {
+  return {strain,           stress_top,           stress_bottom,
+          deviator,         lateral_strain_x,     lateral_strain_y,
+          lateral_stress,   kinetic_elastic_ratio, double(contacts),
+          double(sliding_contacts)};
+}
+
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
+  double best = 0, at = 0;
+  for (const CrystalRow& row : curve) {
+    if (best < 0.1 * p0 && row.deviator < 0.1 * p0) continue;  // still in the noise around zero
+    if (row.deviator > best) best = row.deviator, at = row.strain;
+    else if (row.deviator < best - drop * best) break;
+  }
+  return {at, best};
+}
+
+CrystalCompression::CrystalCompression(const CrystalParams& params) : params_(params), sample_(params) {}
+
+CrystalRow CrystalCompression::measure(double strain) const {
+  CrystalRow row;
+  const World& world = sample_.world();
+  const auto& x = world.bodies().position;
+  row.strain = strain;
+  row.stress_top = sample_.wall_stress(sample_.top_wall());
+  row.stress_bottom = sample_.wall_stress(sample_.bottom_wall());
+  row.deviator = (row.stress_top + row.stress_bottom) / 2 - params_.confining_pressure;
+  const double width = mean_coordinate(sample_.side(1), x, 0) - mean_coordinate(sample_.side(0), x, 0);
+  const double thickness = mean_coordinate(sample_.side(3), x, 1) - mean_coordinate(sample_.side(2), x, 1);
+  row.lateral_strain_x = ref_width_ > 0 ? width / ref_width_ - 1 : 0;
+  row.lateral_strain_y = ref_thickness_ > 0 ? thickness / ref_thickness_ - 1 : 0;
+  const auto [sx, sy] = sample_.lateral_stresses();
+  row.lateral_stress = (sx + sy) / 2;
+  row.kinetic_elastic_ratio = sample_.kinetic_elastic_ratio();
+  row.contacts = world.contact_stats().contacts;
+  row.sliding_contacts = world.contact_stats().sliding;
+  return row;
+}
+
+GrainSnapshot CrystalCompression::snapshot(double strain) const {
+  const World& world = sample_.world();
+  const std::vector<GrainId>& ids = sample_.grain_ids();
+  const Bodies& b = world.bodies();
+  GrainSnapshot s;
+  s.strain = strain;
+  s.step = world.steps();
+  s.id = ids;
+  s.position = b.position;
+  s.orientation = b.orientation;
+  s.displacement.resize(b.size());
+  for (std::size_t i = 0; i < b.size(); ++i) s.displacement[i] = b.position[i] - ref_position_[i];
+  s.penetration = world.overlap_sums();
+  double mean = 0;
+  for (double d : s.penetration) mean += d;
+  mean /= s.penetration.size();
+  for (double d : s.penetration) s.penetration_ratio.push_back(mean > 0 ? d / mean : 0);
+  for (const LocalStrain& e : local_strains(ref_position_, b.position, interfaces_)) {
+    s.max_shear_strain.push_back(e.max_shear);
+    s.equivalent_strain.push_back(e.equivalent);
+  }
+  for (const auto& [p, q] : interfaces_) s.interfaces.push_back({ids[p], ids[q]});
+  s.sliding = interface_sliding(ref_position_, ref_orientation_, b.position, b.orientation, interfaces_);
+  return s;
+}
+
+CrystalResult CrystalCompression::run(ResultSink& sink) {
+  const auto start = std::chrono::steady_clock::now();
+  CrystalResult r;
+  // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
+  r.confinement = confine([&](double f) { return sink.progress(0.1 * f); });
+
+  // Reference state for strains, displacements and lateral strains.
+  World& world = sample_.world();
+  const Bodies& b = world.bodies();
+  ref_position_ = b.position;
+  ref_orientation_ = b.orientation;
+  interfaces_ = neighbour_pairs(ref_position_, 1.1 * params_.grain.size / std::sqrt(2.0));
+  ref_width_ = mean_coordinate(sample_.side(1), ref_position_, 0) - mean_coordinate(sample_.side(0), ref_position_, 0);
+  ref_thickness_ = mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);
+  Wall& top = world.walls()[sample_.top_wall()];
+  Wall& bottom = world.walls()[sample_.bottom_wall()];
+  ref_length_ = top.point.z() - bottom.point.z();
+
+  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
+  const double dt = world.settings().time_step;
+  // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
+  // stress wave of amplitude E R (= p0 at R = 1e-5, E = 3 GPa) through it.
+  const double ramp_time = 10 * ref_length_ / wave_speed;
+  const std::vector<double> record_at = curve_strains(params_.max_strain, params_.curve_points);
+
+  std::vector<double> targets = params_.snapshot_strains;
+  std::sort(targets.begin(), targets.end());
+  std::size_t next_snapshot = 0, next_row = 0;
+  auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
+  auto take_due_snapshots = [&] {
+    while (next_snapshot < targets.size() && strain_now() >= targets[next_snapshot] - 1e-12) {
+      r.snapshots.push_back(snapshot(targets[next_snapshot++]));
+      sink.snapshot(r.snapshots.size() - 1, r.snapshots.back());
+    }
+  };
+  auto record = [&](double strain) {
+    r.curve.push_back(measure(strain));
+    sink.curve_row(r.curve.back().values());
+  };
+  record(0);
+  take_due_snapshots();
+  const std::uint64_t first = world.steps();
+  while (next_row < record_at.size()) {
+    // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
+    // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
+    const double t = (world.steps() - first) * dt;
+    top.velocity = top.normal * (speed * std::min(1.0, t / ramp_time));
+    world.step();
+    if ((world.steps() - first) % params_.membrane_interval == 0) {
+      sample_.check_finite();
+      sample_.update_membrane();
+    }
+    take_due_snapshots();
+    const double strain = strain_now();
+    // Every 100 steps (< 1 s even at full size): a cancelled run stops promptly.
+    if ((world.steps() - first) % 100 == 0 &&
+        !sink.progress(0.1 + 0.9 * std::min(1.0, std::max(0.0, strain) / params_.max_strain)))
+      throw Cancelled();
+    if (!(strain >= record_at[next_row] - 1e-12 * params_.max_strain)) continue;
+    while (next_row < record_at.size() && strain >= record_at[next_row] - 1e-12 * params_.max_strain) ++next_row;
+    record(strain);
+  }
+  sink.progress(1.0);
+  top.velocity.setZero();
+
+  r.prestrain = hydrostatic_prestrain(params_.confining_pressure, params_.material.youngs_modulus);
+  r.strain_rate = speed / ref_length_;
+  r.initial_length = ref_length_;
+  r.cross_section = sample_.cross_section();
+  r.knocked_out = sample_.lattice().knocked_out;
+  r.compression_steps = world.steps() - first;
+  r.run = world.run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return r;
+}
+
+}  // namespace granulab

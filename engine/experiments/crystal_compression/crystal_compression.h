@@ -1,0 +1,94 @@
+// Experiment 2 of the paper (sections 4-6, Figs. 6-12): an FCC crystal of rhombic dodecahedra in the
+// off-axis orientation, confined by a vacuum bag at p0 and compressed between two frictional walls
+// (docs/model.md, "Crystal lattice", "Confinement", "Compression").
+//  1. build and confine: a CrystalSample and confine() (engine/crystal/), shared by crystal experiments.
+//  2. compress: the top wall moves down at constant speed (the bottom one is fixed), strain rate from the rate number
+//     R = L eps_dot / sqrt(E / rho) (rho with mass scaling); curve rows and snapshots on the way.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "engine/crystal/confinement.h"
+#include "engine/crystal/crystal_sample.h"
+#include "engine/experiments/result_sink.h"
+
+namespace granulab {
+
+struct CrystalParams : CrystalSampleParams {
+  double max_strain = 0.1;           ///< compression stops here (-)
+  double rate_number = 1e-5;         ///< R (-); converged default, see README "Quasi-static rate"
+  int curve_points = 400;            ///< curve rows after the start (-)
+  std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
+};
+
+struct CrystalRow {
+  double strain;                      ///< wall approach / initial length (-)
+  double stress_top, stress_bottom;   ///< wall force / initial cross-section, compressive positive (Pa)
+  double deviator;                    ///< mean of the two - p0 (Pa)
+  double lateral_strain_x;            ///< change of width / width (extension positive) (-)
+  double lateral_strain_y;            ///< change of thickness / thickness (extension positive) (-)
+  double lateral_stress;              ///< mean of the two lateral_stresses() (Pa)
+  double kinetic_elastic_ratio;       ///< kinetic / elastic energy (-)
+  std::size_t contacts;               ///< sphere pairs in contact (-)
+  std::size_t sliding_contacts;       ///< of which at the Coulomb limit (-)
+
+  /// The curve's columns (CONTRACT.md), in the order of values().
+  static const std::vector<CurveColumn>& columns();
+  std::vector<double> values() const;
+};
+
+struct CrystalResult {
+  std::vector<CrystalRow> curve;
+  std::vector<GrainSnapshot> snapshots;
+  ConfinementReport confinement;
+  RunStats run;                        ///< steps (confinement included), timings, model numbers
+  double prestrain = 0;                ///< eps0 = sqrt2 p0 / E (-)
+  double strain_rate = 0;              ///< platen speed / initial length (1/s)
+  double initial_length = 0;           ///< platen gap at the end of confinement (m)
+  double cross_section = 0;            ///< lattice cross-section normal to z (m^2)
+  std::size_t knocked_out = 0;         ///< grains removed (-)
+  std::uint64_t compression_steps = 0; ///< time steps of the compression phase (-)
+};
+
+/// The first yield peak of a crystal curve: once the deviator exceeds 0.1 p0, the largest deviator
+/// before it first falls `drop` (relative) below its running maximum. Returns {strain (-), deviator (Pa)};
+/// {0, 0} if the deviator never reaches 0.1 p0.
+std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop = 0.02);
+
+class CrystalCompression {
+ public:
+  explicit CrystalCompression(const CrystalParams& params);
+
+  World& world() { return sample_.world(); }
+  const CrystalSample& sample() const { return sample_; }
+  const CrystalLattice& lattice() const { return sample_.lattice(); }
+  const MembraneStats& membrane_stats() const { return sample_.membrane_stats(); }
+  const std::vector<GrainId>& grain_ids() const { return sample_.grain_ids(); }
+  std::pair<double, double> lateral_stresses() const { return sample_.lateral_stresses(); }
+
+  /// The confinement phase alone (normally called by run()).
+  ConfinementReport confine(const ProgressFn& progress = nullptr) { return granulab::confine(sample_, progress); }
+  /// Confines, compresses, records: each curve row and snapshot goes to `sink` as it is made; the sink
+  /// may stop the run (throws Cancelled).
+  CrystalResult run(ResultSink& sink);
+  CrystalResult run() {
+    ResultSink none;
+    return run(none);
+  }
+
+ private:
+  CrystalRow measure(double strain) const;
+  GrainSnapshot snapshot(double strain) const;
+
+  CrystalParams params_;
+  CrystalSample sample_;
+  // Reference state (end of confinement).
+  std::vector<Vec3> ref_position_;
+  std::vector<Quat> ref_orientation_;
+  std::vector<BodyPair> interfaces_;
+  double ref_length_ = 0, ref_width_ = 0, ref_thickness_ = 0;
+};
+
+}  // namespace granulab

@@ -1,0 +1,22 @@
+// crystal_compression as a registered experiment: its spec fields, its run and its summary.
+#pragma once
+
+#include <memory>
+
+#include "engine/experiments/crystal_compression/crystal_compression.h"
+#include "engine/experiments/experiment.h"
+
+namespace granulab {
+
+class CrystalCompressionExperiment : public Experiment {
+ public:
+  CrystalParams params;  ///< the paper's defaults until a spec is read
+
+  void parameters(ParameterVisitor& v) override;
+  const std::vector<CurveColumn>& curve_columns() const override { return CrystalRow::columns(); }
+  std::unique_ptr<ExperimentResult> run(ResultSink& sink) const override;
+};
+
+std::unique_ptr<Experiment> make_crystal_compression();
+
+}  // namespace granulab

@@ -1,0 +1,37 @@
+// The one interface every experiment implements, so that the spec reader, the runner, the CLI, the
+// server, the API schema and the docs handle any experiment the same way (docs/architecture.md, "Add
+// an experiment"). An Experiment holds its parameters (the paper's defaults until a spec is read into
+// them), runs them, streaming its curve and snapshots to a ResultSink, and returns a result that
+// writes its own summary.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "engine/experiments/parameters.h"
+#include "engine/experiments/result_sink.h"
+#include "engine/experiments/summary_writer.h"
+
+namespace granulab {
+
+/// A finished run's result, beyond its curve and snapshots.
+class ExperimentResult {
+ public:
+  virtual ~ExperimentResult() = default;
+  /// The summary fields: write_run_stats(...) and the experiment's own.
+  virtual void write_summary(SummaryWriter& w) const = 0;
+};
+
+class Experiment {
+ public:
+  virtual ~Experiment() = default;
+  /// Visits every parameter (see parameters.h): reading a spec fills them.
+  virtual void parameters(ParameterVisitor& v) = 0;
+  /// The curve's columns; curve rows hold one value per column, in this order.
+  virtual const std::vector<CurveColumn>& curve_columns() const = 0;
+  /// Runs with the parameters as they are. Throws Cancelled when the sink asks to stop,
+  /// std::invalid_argument for parameters the physics cannot run, std::runtime_error for a failed run.
+  virtual std::unique_ptr<ExperimentResult> run(ResultSink& sink) const = 0;
+};
+
+}  // namespace granulab

@@ -1,0 +1,28 @@
+// The table of experiments. To add one: a folder engine/experiments/<name>/ with its parameters, run
+// loop, results and a make_<name>() factory, and one row here (docs/architecture.md).
+#include "engine/experiments/registry.h"
+
+#include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
+#include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
+
+namespace granulab {
+
+const std::vector<ExperimentType>& experiment_types() {
+  static const std::vector<ExperimentType> types = {
+      {"two_cube_sliding", "two cubes sliding face to face under a pre-strain (paper section 3, Figs. 3-5)",
+       make_two_cube_sliding},
+      {"crystal_compression",
+       "an FCC crystal of rhombic dodecahedra confined by a vacuum bag and compressed between two platens "
+       "(paper sections 4-6, Figs. 6-12)",
+       make_crystal_compression},
+  };
+  return types;
+}
+
+const ExperimentType* find_experiment_type(const std::string& name) {
+  for (const ExperimentType& t : experiment_types())
+    if (name == t.name) return &t;
+  return nullptr;
+}
+
+}  // namespace granulab

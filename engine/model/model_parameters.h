@@ -1,0 +1,19 @@
+// The spec fields shared by every experiment built from grains of one template and one material: the
+// "grain" and "material" sections, and the engine knobs of the "run" section (see
+// engine/experiments/parameters.h for how fields are visited).
+#pragma once
+
+#include "engine/experiments/parameters.h"
+#include "engine/geometry/grain_template.h"
+#include "engine/model/model.h"
+
+namespace granulab {
+
+/// The "grain" section; `g.shape` is the experiment's only shape (a spec may name it, not change it).
+void visit_grain(ParameterVisitor& v, GrainGeometry& g);
+/// The "material" section.
+void visit_material(ParameterVisitor& v, Material& m);
+/// The engine knobs of the "run" section: dt / t0 and the neighbour skin / d.
+void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor);
+
+}  // namespace granulab

@@ -1,0 +1,66 @@
+#include "server/store_sink.h"
+
+#include "api/curve_format.h"
+#include "api/snapshot_files.h"
+
+namespace granulab::server {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+StoreSink::StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds)
+    : store_(store),
+      job_(job),
+      stopping_(stopping),
+      flush_seconds_(flush_seconds),
+      start_(std::chrono::steady_clock::now()),
+      last_flush_(start_) {}
+
+void StoreSink::begin(const std::vector<CurveColumn>& columns) {
+  columns_ = columns;
+  curve_csv_ = api::curve_csv_header(columns);
+  store_.start_curve(job_, curve_csv_);
+}
+
+void StoreSink::curve_row(const std::vector<double>& values) {
+  std::string line = api::curve_csv_line(columns_, values);
+  curve_csv_ += line;
+  pending_rows_.push_back(std::move(line));
+}
+
+void StoreSink::snapshot(std::size_t index, const GrainSnapshot& s) {
+  pending_snapshots_.push_back({int(index), s.strain, api::snapshot_json(s).dump()});
+}
+
+void StoreSink::flush() {
+  if (pending_rows_.empty() && pending_snapshots_.empty()) return;
+  const auto t = std::chrono::steady_clock::now();
+  store_.append_results(job_, rows_stored_, pending_rows_, pending_snapshots_);
+  rows_stored_ += pending_rows_.size();
+  pending_rows_.clear();
+  pending_snapshots_.clear();
+  flush_seconds_total_ += seconds_since(t);
+  ++flushes_;
+}
+
+bool StoreSink::progress(double fraction) {
+  if (stopping_) throw Interrupted();
+  if (seconds_since(last_flush_) < flush_seconds_) return true;
+  flush();
+  last_flush_ = std::chrono::steady_clock::now();
+  const double elapsed = seconds_since(start_);
+  store_.set_progress(job_, fraction, fraction > 0 ? elapsed * (1 - fraction) / fraction : -1);
+  return !store_.cancel_requested(job_);
+}
+
+void StoreSink::summary(const nlohmann::json& summary) {
+  flush();
+  store_.succeed(job_, summary.dump(), curve_csv_, api::curve_csv_to_json(curve_csv_).dump());
+}
+
+}  // namespace granulab::server

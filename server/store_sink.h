@@ -1,0 +1,58 @@
+// The server's JobSink: a running job's curve rows and snapshots go into the store in batches, at most
+// every `flush_seconds` (and at the end), so GET /v1/jobs/{id}/curve serves the rows computed so far and a
+// job that is cancelled, fails or loses its daemon keeps what it computed up to the last batch. Between
+// batches the sink only buffers: the engine's loop never waits on SQLite for more than one batch a
+// second. Progress and the cancel flag are exchanged with the store at the same rhythm; `stopping`
+// (the daemon's shutdown) is checked at every progress call.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "api/job_sink.h"
+#include "server/store/job_store.h"
+
+namespace granulab::server {
+
+/// Thrown when the daemon shuts down under a running job (it is re-queued, not failed).
+struct Interrupted : std::runtime_error {
+  Interrupted() : std::runtime_error("interrupted by shutdown") {}
+};
+
+class StoreSink : public api::JobSink {
+ public:
+  StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds);
+
+  void begin(const std::vector<CurveColumn>& columns) override;
+  void curve_row(const std::vector<double>& values) override;
+  void snapshot(std::size_t index, const GrainSnapshot& s) override;
+  /// Throws Interrupted on shutdown; flushes, stores progress and an ETA and returns false on a
+  /// cancel request, at most every flush_seconds.
+  bool progress(double fraction) override;
+  /// Flushes what is buffered and marks the job succeeded with its summary and whole curve.
+  void summary(const nlohmann::json& summary) override;
+  /// Writes what is buffered (also called by the worker when a run ends without a summary).
+  void flush();
+
+  double flush_seconds_total() const { return flush_seconds_total_; }  ///< time spent writing (s)
+  std::size_t flushes() const { return flushes_; }
+
+ private:
+  JobStore& store_;
+  std::int64_t job_;
+  const std::atomic<bool>& stopping_;
+  double flush_seconds_;
+  std::vector<CurveColumn> columns_;
+  std::string curve_csv_;                  // the whole curve, for the final store
+  std::vector<std::string> pending_rows_;  // not yet in the store
+  std::size_t rows_stored_ = 0;
+  std::vector<JobStore::SnapshotBlob> pending_snapshots_;
+  std::chrono::steady_clock::time_point start_, last_flush_;
+  double flush_seconds_total_ = 0;
+  std::size_t flushes_ = 0;
+};
+
+}  // namespace granulab::server
