@@ -115,7 +115,8 @@ std::string experiments_markdown() {
       "equal to that output, so it is always what the code reads. Units are SI (`a`: grain sizes; `-`: none).\n"
       "Every field has a default, so `{\"experiment\": \"<name>\"}` is a complete spec; unknown fields and values\n"
       "outside the allowed range are rejected with a message that names the field.\n";
-  for (const nlohmann::json& e : experiments_json()["experiments"]) {
+  const nlohmann::json description = experiments_json();
+  for (const nlohmann::json& e : description["experiments"]) {
     out += "\n## `" + e["name"].get<std::string>() + "`\n\n" + e["title"].get<std::string>() + ".\n\n";
     out += "| field | default | allowed | unit | meaning |\n| --- | --- | --- | --- | --- |\n";
     for (const nlohmann::json& f : e["fields"])

@@ -15,9 +15,11 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <regex>
 
 #include <nlohmann/json.hpp>
 
+#include "api/engine_version.h"
 #include "api/runner.h"
 #include "server/routes.h"
 
@@ -393,6 +395,58 @@ TEST_F(Daemon, ExperimentsAreDescribedFromTheRegistry) {
     EXPECT_FALSE(e["experiments"][k]["fields"].empty());
     EXPECT_FALSE(e["experiments"][k]["curve_columns"].empty());
   }
+}
+
+}  // namespace
+}  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// engine_version as cmake/engine_version.cmake computes it for a source tree (copies of engine/ and api/).
+std::string version_of(const fs::path& tree, const fs::path& work) {
+  const fs::path out = work / "engine_version.cpp";
+  const auto [code, log] = shell(std::string(GRANULAB_CMAKE) + " -DSOURCE_DIR=" + tree.string() + " -DOUTPUT=" +
+                                 out.string() + " -DVERSION=" + GRANULAB_VERSION + " -P " + GRANULAB_SOURCE_DIR +
+                                 "/cmake/engine_version.cmake");
+  EXPECT_EQ(code, 0) << log;
+  std::ifstream in(out);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::smatch m;
+  const std::string s = text.str();
+  return std::regex_search(s, m, std::regex(R"re(return "([^"]+)")re")) ? m[1].str() : "";
+}
+
+// The reuse key follows the sources: this build's engine_version is the hash of its engine/ and api/
+// sources; a build of sources that differ by one line has another version; a stored result of that other
+// build is not served by ?reuse=true here, one of this build is.
+TEST_F(Daemon, BuildsOfDifferentEngineSourcesDoNotShareResults) {
+  const fs::path tree = dir_ / "tree";
+  fs::create_directories(tree);
+  for (const char* part : {"engine", "api"}) fs::copy(fs::path(GRANULAB_SOURCE_DIR) / part, tree / part, fs::copy_options::recursive);
+  const std::string ours = version_of(tree, dir_);
+  EXPECT_EQ(ours, api::engine_version()) << "the build did not use cmake/engine_version.cmake on these sources";
+  std::ofstream(tree / "engine" / "contact" / "contact_law.h", std::ios::app) << "// a change to the physics\n";
+  const std::string theirs = version_of(tree, dir_);
+  ASSERT_FALSE(theirs.empty());
+  EXPECT_NE(theirs, ours);
+
+  const api::Spec spec = api::parse_spec_text(kTwoCube);
+  const std::string hash = api::spec_hash(spec.normalized);
+  auto stored_result = [&](const std::string& version) {
+    const std::int64_t id = store_->submit(spec.normalized.dump(), spec.name(), "", hash, version, "", 0);
+    EXPECT_EQ(store_->claim_next()->id, id);
+    EXPECT_TRUE(store_->succeed(id, R"({"steps": 1})", "a\n1\n", R"({"columns": ["a"], "a": [1]})"));
+    return id;
+  };
+  stored_result(theirs);
+  const json fresh = post("/v1/jobs?reuse=true", kTwoCube, 201);  // the other build's result is not served
+  EXPECT_EQ(fresh["status"], "queued");
+  ASSERT_EQ(post("/v1/jobs/" + std::to_string(fresh["id"].get<std::int64_t>()) + "/cancel", "", 200)["status"], "cancelled");
+  const std::int64_t mine = stored_result(ours);
+  const json reused = post("/v1/jobs?reuse=true", kTwoCube, 200);
+  EXPECT_EQ(reused["id"], mine);
 }
 
 }  // namespace
