@@ -6,7 +6,7 @@
 
 namespace granulab {
 
-ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress) {
+ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, const ConfinementCheck& on_check) {
   ConfinementReport r;
   const CrystalSampleParams& p = sample.params();
   World& world = sample.world();
@@ -37,6 +37,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress) {
                           std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
     const bool quiet = ke <= p.kinetic_tolerance * ee;
     good = walls_ok && quiet ? good + 1 : 0;
+    if (on_check) on_check(world.steps() - start);
     const double servo_steps = 20 * servo_time / world.settings().time_step;
     if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
     if (good >= p.equilibrium_checks) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include "engine/crystal/crystal_sample.h"
 #include "engine/experiments/result_sink.h"
@@ -22,8 +23,12 @@ struct ConfinementReport {
   double kinetic_elastic_ratio = 0;    ///< at the end (-)
 };
 
+/// Called at each equilibrium check (every membrane_interval steps) with the steps taken so far.
+using ConfinementCheck = std::function<void(std::uint64_t steps)>;
+
 /// Confines the sample. `progress` gets a fraction that approaches 1 on the servo's time scale (the
 /// length of the phase is not known in advance); returning false stops the run (throws Cancelled).
-ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress = nullptr);
+ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress = nullptr,
+                          const ConfinementCheck& on_check = nullptr);
 
 }  // namespace granulab

@@ -3,6 +3,7 @@
 #include "engine/experiments/registry.h"
 
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
+#include "engine/experiments/crystal_confinement/crystal_confinement.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 
 namespace granulab {
@@ -15,6 +16,10 @@ const std::vector<ExperimentType>& experiment_types() {
        "an FCC crystal of rhombic dodecahedra confined by a vacuum bag and compressed between two platens "
        "(paper sections 4-6, Figs. 6-12)",
        make_crystal_compression},
+      {"crystal_confinement",
+       "the crystal sample of crystal_compression confined by the vacuum bag and the servo-controlled platens "
+       "alone, its approach to equilibrium recorded at every check (paper section 4)",
+       make_crystal_confinement},
   };
   return types;
 }

@@ -73,7 +73,9 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
   const std::map<std::string, std::string> short_specs = {
       {"two_cube_sliding", R"({"grain": {"edge_spheres": 3}, "loading": {"rate_number": 1e-3}, "output": {"curve_points": 5}})"},
       {"crystal_compression", R"({"grain": {"edge_spheres": 3}, "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
-        "loading": {"confining_pressure": 30e3, "max_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"}};
+        "loading": {"confining_pressure": 30e3, "max_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"},
+      {"crystal_confinement", R"({"grain": {"edge_spheres": 3}, "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
+        "loading": {"confining_pressure": 30e3}})"}};
   for (const ExperimentType& t : experiment_types()) {
     SCOPED_TRACE(t.name);
     ASSERT_TRUE(short_specs.count(t.name)) << "add a short spec for the new experiment here";

@@ -1,0 +1,76 @@
+#include "engine/experiments/crystal_confinement/crystal_confinement.h"
+
+#include <chrono>
+#include <string>
+
+#include "engine/crystal/sample_parameters.h"
+
+namespace granulab {
+
+namespace {
+
+struct ConfinementSummary : ExperimentResult {
+  ConfinementReport report;
+  RunStats run;
+  double prestrain = 0;  // -
+
+  void write_summary(SummaryWriter& w) const override {
+    write_run_stats(w, run);
+    w.number("prestrain", prestrain, "-");
+    w.begin_group("confinement");
+    w.count("steps", report.steps);
+    w.flag("converged", report.converged);
+    w.number("stress_top", report.stress_top, "Pa");
+    w.number("stress_bottom", report.stress_bottom, "Pa");
+    w.number("lateral_stress_x", report.lateral_stress_x, "Pa");
+    w.number("lateral_stress_y", report.lateral_stress_y, "Pa");
+    w.number("kinetic_elastic_ratio", report.kinetic_elastic_ratio, "-");
+    w.end_group();
+    w.begin_list("warnings");
+    if (!report.converged)
+      w.text(nullptr, "confinement stopped after " + std::to_string(report.steps) + " steps without reaching equilibrium");
+    w.end_list();
+  }
+};
+
+}  // namespace
+
+const std::vector<CurveColumn>& ConfinementRow::columns() {
+  static const std::vector<CurveColumn> c = {
+      {"step", "-", "time steps since the start of confinement", 0},
+      {"stress_top", "Pa", "top platen stress, compressive positive"},
+      {"stress_bottom", "Pa", "bottom platen stress, compressive positive"},
+      {"lateral_stress_x", "Pa", "lateral stress the packing carries along x (virial)"},
+      {"lateral_stress_y", "Pa", "lateral stress the packing carries along y (virial)"},
+      {"kinetic_elastic_ratio", "-", "kinetic / elastic energy", 6},
+  };
+  return c;
+}
+
+std::vector<double> ConfinementRow::values() const {
+  return {step, stress_top, stress_bottom, lateral_stress_x, lateral_stress_y, kinetic_elastic_ratio};
+}
+
+void CrystalConfinementExperiment::parameters(ParameterVisitor& v) { visit_crystal_sample(v, params); }
+
+std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink) const {
+  const auto start = std::chrono::steady_clock::now();
+  auto out = std::make_unique<ConfinementSummary>();
+  CrystalSample sample(params);
+  auto record = [&](std::uint64_t steps) {
+    const auto [sx, sy] = sample.lateral_stresses();
+    const ConfinementRow row{double(steps), sample.wall_stress(sample.top_wall()), sample.wall_stress(sample.bottom_wall()),
+                             sx, sy, sample.kinetic_elastic_ratio()};
+    sink.curve_row(row.values());
+  };
+  record(0);
+  out->report = confine(sample, [&](double f) { return sink.progress(f); }, record);
+  sink.progress(1.0);
+  out->prestrain = hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus);
+  out->run = sample.world().run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return out;
+}
+
+std::unique_ptr<Experiment> make_crystal_confinement() { return std::make_unique<CrystalConfinementExperiment>(); }
+
+}  // namespace granulab
