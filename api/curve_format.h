@@ -1,4 +1,4 @@
-// Curves as text: CSV (header row first, CONTRACT.md) written one row at a time from an experiment's
+// Curves as text: CSV (header row first, docs/api.md) written one row at a time from an experiment's
 // columns, and the JSON columns form that GET /v1/jobs/{id}/curve serves.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The experiment specification (CONTRACT.md): JSON in, a registered experiment with validated
+// The experiment specification (docs/api.md, docs/spec.md): JSON in, a registered experiment with validated
 // parameters out. Every field has the paper's default; unknown fields and out-of-range values are errors
 // that name the field. The normalised spec (all defaults filled in) is what a result is stored and
 // hashed with. Which fields exist is the experiments' business (engine/experiments/registry.h); this

@@ -1,5 +1,5 @@
 // granulabd: the lab server. Keeps jobs and results in an SQLite file, runs them on a bounded pool
-// (workers x engine threads never exceed the cores), serves the HTTP API of CONTRACT.md. SIGTERM or
+// (workers x engine threads never exceed the cores), serves the HTTP API of docs/api.md. SIGTERM or
 // SIGINT: stop accepting requests, interrupt running jobs and put them back in the queue, exit cleanly.
 // After a kill -9, jobs found `running` at the next start are re-queued the same way.
 #include <csignal>

@@ -1,4 +1,4 @@
-// The HTTP API of CONTRACT.md on cpp-httplib (the only file that includes it). Handlers parse,
+// The HTTP API of docs/api.md on cpp-httplib (the only file that includes it). Handlers parse,
 // validate and talk to the store; simulations run on the WorkerPool, never on a handler thread.
 #pragma once
 

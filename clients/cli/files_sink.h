@@ -1,4 +1,4 @@
-// The files of `granulab run SPEC --out DIR` (CONTRACT.md), written as the run makes them so a killed
+// The files of `granulab run SPEC --out DIR` (docs/api.md), written as the run makes them so a killed
 // run keeps what it computed: DIR/curve.csv grows a row at a time (flushed), each snapshot k is written
 // when taken as snapshots/snapshot_k.json (compact, what the server stores), .dump (LAMMPS text dump,
 // opens in OVITO), _grains.vtk and _interfaces.vtk (ParaView); summary.json, written last, marks a

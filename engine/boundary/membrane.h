@@ -1,4 +1,4 @@
-// The vacuum bag: a confining pressure p0 on the lateral surface of the sample (MODEL.md, Experiment 2).
+// The vacuum bag: a confining pressure p0 on the lateral surface of the sample (docs/model.md, "Confinement").
 // For each lateral face (+x, -x, +y, -y) a height map over the face plane, with cells finer than a
 // sphere, records the outermost sphere surface in every cell; the grain owning it receives
 // p0 x (cell area) along the inward face normal, applied at that surface point (so it also exerts a

@@ -1,4 +1,4 @@
-// A rigid plane wall with prescribed motion (MODEL.md: walls use the sphere contact law and friction;
+// A rigid plane wall with prescribed motion (docs/model.md, "Contact law": walls use the sphere contact law and friction;
 // their motion is prescribed; the force on a wall is the sum of the contact forces it receives).
 #pragma once
 

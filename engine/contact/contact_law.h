@@ -1,4 +1,4 @@
-// The contact law shared by sphere-sphere and sphere-wall contacts (MODEL.md, "Contact law"):
+// The contact law shared by sphere-sphere and sphere-wall contacts (docs/model.md, "Contact law"):
 //   normal      F_n = k_n delta n - c_n v_n                         (paper eq. 3, plus viscous damping)
 //   tangential  xi <- rotate(xi into the current tangent plane) + v_t dt
 //               F_t = -k_t xi - c_t v_t,  |F_t| <= f |F_n|  (on slip xi is reset to match the cap)

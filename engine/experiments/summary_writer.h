@@ -28,7 +28,7 @@ class SummaryWriter {
 /// Conventions: a result that missed one of its own criteria says so in a list "warnings" of sentences,
 /// which the CLI prints and the server shows with the job.
 
-/// The fields every run reports (CONTRACT.md: spheres, grains, steps, time_step, wall_seconds, threads,
+/// The fields every run reports (docs/api.md: spheres, grains, steps, time_step, wall_seconds, threads,
 /// sphere_steps_per_second and the model numbers), from the world's statistics.
 void write_run_stats(SummaryWriter& w, const RunStats& r);
 

@@ -1,7 +1,7 @@
 // A grain template: the body-frame sphere clump of one grain shape, shared (flyweight) by every grain
 // of that shape in a simulation. Sphere centres lie on the inner polyhedron (faces recessed by d/2),
 // N_e per edge with spacing s = d(1-kappa), on a structured grid of spacing s on every face
-// (MODEL.md, "Grains: rigid clumps of overlapping spheres").
+// (docs/model.md, "Grains").
 #pragma once
 
 #include <vector>
@@ -18,7 +18,7 @@ struct GrainGeometry {
   double overlap = 0.75;   ///< kappa in [0, 1)
 };
 
-/// Sphere diameter d (m): cube eq. 2, d = l/((N_e-1)(1-kappa)+1); RD (MODEL.md reading of eq. 7),
+/// Sphere diameter d (m): cube eq. 2, d = l/((N_e-1)(1-kappa)+1); RD (docs/model.md, "Grains": our reading of eq. 7),
 /// d = a/((4/sqrt3)(N_e-1)(1-kappa) + sqrt2).
 double sphere_diameter(const GrainGeometry& g);
 /// Spheres in one clump, closed form (docs/model.md, "Grains"): cube 6m^2 + 12m + 8, RD 12m^2 + 24m + 14

@@ -1,5 +1,5 @@
 // Convex polyhedra whose faces are parallelograms, each face at the same distance from the centre:
-// the cube and the rhombic dodecahedron (MODEL.md, "Grains"). Because every face is at distance h,
+// the cube and the rhombic dodecahedron (docs/model.md, "Grains"). Because every face is at distance h,
 // the "inner" polyhedron on which sphere centres lie (every face recessed by d/2) is the outer one
 // scaled by (h - d/2)/h about the centre.
 #pragma once

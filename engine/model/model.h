@@ -1,4 +1,4 @@
-// Material parameters and the model numbers derived from them without fitting (MODEL.md):
+// Material parameters and the model numbers derived from them without fitting (docs/model.md, "Contact law", "Time integration"):
 //   k_n = E / (rho_s * size), rho_s = N_f / A_face          (paper eqs. 5, 6, 8; cube: k_n = E l / N_f)
 //   t0  = sqrt(m_grain / K_face), K_face = E A_face / size,  dt = factor * t0
 // The time step does not depend on N_e: k_n ~ 1/N_e^2 while the contacts per face grow as N_e^2.

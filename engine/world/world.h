@@ -1,5 +1,5 @@
 // The simulation world: identical rigid grains (one shared template), plane walls, and the time step
-// as a short list of named, timed stages (STYLE.md):
+// as a short list of named, timed stages (docs/architecture.md):
 //   kick/drift -> move walls -> rebuild candidates if any sphere moved past half the skin (sphere
 //   positions are computed for it) -> sphere contact forces -> wall forces -> kick.
 // Contact forces are computed per grain pair into per-pair slots (in parallel) and then reduced into

@@ -3,7 +3,7 @@
 // midway leaves each job in exactly one state. One connection serves all threads, guarded by a mutex:
 // the store is never the bottleneck next to experiments that run for minutes.
 //
-// Job life cycle (CONTRACT.md, HTTP API):
+// Job life cycle (docs/api.md, HTTP API):
 //   queued ──claim_next──▶ running ──succeed──▶ succeeded
 //     │                      ├──fail──────────▶ failed
 //     │                      └──mark_cancelled▶ cancelled   (after request_cancel set cancel_requested)

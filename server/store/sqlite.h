@@ -1,4 +1,4 @@
-// Thin RAII wrappers over the SQLite C API, for the job store only (STYLE.md: only server/store
+// Thin RAII wrappers over the SQLite C API, for the job store only (docs/architecture.md: only server/store
 // includes sqlite3). Database owns one connection, Statement one prepared statement, Transaction one
 // BEGIN IMMEDIATE ... COMMIT that rolls back in its destructor unless committed, so an exception
 // thrown midway never leaves half a state change behind. Every SQLite error becomes a

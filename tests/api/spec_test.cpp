@@ -1,4 +1,4 @@
-// The experiment specification of CONTRACT.md: defaults, normalisation, errors that name the field,
+// The experiment specification (docs/api.md, docs/spec.md): defaults, normalisation, errors that name the field,
 // and the result formats (curve.csv header, summary.json keys).
 #include <cmath>
 #include <limits>
@@ -21,7 +21,7 @@ namespace {
 
 using nlohmann::json;
 
-// Copied verbatim from CONTRACT.md, "Experiment specification".
+// Copied verbatim from the product contract's example spec (the one every README and client started from).
 constexpr const char* kContractCrystalExample = R"({
   "experiment": "crystal_compression",
   "label": "ref p0=60kPa",
@@ -113,7 +113,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   json expected = json::parse(kContractCrystalExample);
   expected["label"] = "";
   expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
-  // Deliberate departures: the default rate is the one shown converged (MODEL.md; README "Quasi-static
+  // Deliberate departures: the default rate is the one shown converged (docs/model.md; README "Quasi-static
   // rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
   expected["loading"]["rate_number"] = 1e-5;
   expected["crystal"]["knockout_regions"] = json::array();

@@ -1,4 +1,4 @@
-// End-to-end tests of the command-line tool (CONTRACT.md, "Commands" and "Curves"): the real
+// End-to-end tests of the command-line tool (docs/api.md, "Commands" and "Curves"): the real
 // build/granulab binary runs as a subprocess; its exit status, stdout, stderr and output files are
 // checked. Every run here is a tiny two-cube job (well under a second).
 #include <fcntl.h>

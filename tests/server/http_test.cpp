@@ -361,7 +361,9 @@ TEST_F(Daemon, LiveCurveGrowsAndACancelledJobKeepsItsRows) {
   ASSERT_GE(seen.size(), 3u) << "the curve was not seen growing while the job ran";
   for (std::size_t k = 0; k < seen.size(); ++k) {
     EXPECT_EQ(final_csv->body.compare(0, seen[k].size(), seen[k]), 0) << "view " << k << " is not a prefix";
-    if (k) EXPECT_GT(rows_of(seen[k]), rows_of(seen[k - 1]));
+    if (k) {
+      EXPECT_GT(rows_of(seen[k]), rows_of(seen[k - 1]));
+    }
   }
   EXPECT_LT(rows_of(seen.front()), total);
   EXPECT_GE(snapshots_while_running, 1u);

@@ -34,7 +34,7 @@ struct CrystalRow {
   std::size_t contacts;               ///< sphere pairs in contact (-)
   std::size_t sliding_contacts;       ///< of which at the Coulomb limit (-)
 
-  /// The curve's columns (CONTRACT.md), in the order of values().
+  /// The curve's columns (docs/api.md), in the order of values().
   static const std::vector<CurveColumn>& columns();
   std::vector<double> values() const;
 };

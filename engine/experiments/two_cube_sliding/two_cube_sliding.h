@@ -1,6 +1,6 @@
 // Experiment 1 of the paper (section 3, Figs. 3-5): two overlapping-sphere cubes face to face, centre
 // distance l(1 - eps0), the top one sliding by u along x while the pre-strain is held. Both cubes move
-// by prescribed motion (equivalent to the paper's walls, MODEL.md), so the measured forces are the
+// by prescribed motion (equivalent to the paper's walls, docs/model.md), so the measured forces are the
 // contact forces alone. Theory (eq. 1): P = E l^2 eps0 (1 - u/l), T = f P; P0 = E l^2 eps0.
 #pragma once
 
@@ -31,7 +31,7 @@ struct TwoCubeRow {
   double normal_force;        ///< P, compressive positive (N)
   double tangential_force;    ///< T, positive when it resists the slide (N)
 
-  /// The curve's columns (CONTRACT.md), in the order of values().
+  /// The curve's columns (docs/api.md), in the order of values().
   static const std::vector<CurveColumn>& columns();
   std::vector<double> values() const;
 };

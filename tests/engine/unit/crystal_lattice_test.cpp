@@ -1,4 +1,4 @@
-// Unit tests for Experiment 2 (MODEL.md, "FCC granular crystal in compression"): the off-axis FCC
+// Unit tests for Experiment 2 (docs/model.md, "Crystal lattice"): the off-axis FCC
 // lattice builder with knock-outs (build_crystal), the snapshot kinematics (neighbour pairs, local strain,
 // interface sliding) and the vacuum-bag membrane.
 //
@@ -82,7 +82,7 @@ const Size kReference{8, 18, 6, kPrestrain};
 /// The pre-strained cubic cell a' = (1 - eps0) a.
 double cell(const CrystalGeometry& g) { return (1 - g.prestrain) * g.size; }
 
-/// The three periods of the off-axis box (MODEL.md): along a row (x), between {111} layers (y), between rows (z).
+/// The three periods of the off-axis box (docs/model.md, "Crystal lattice"): along a row (x), between {111} layers (y), between rows (z).
 Vec3 periods(double a) { return Vec3(a / kSqrt2, a / kSqrt3, a * kSqrt6 / 4); }
 
 bool is_interior(const LatticeSite& s, const CrystalGeometry& g) {

@@ -1,4 +1,4 @@
-// Unit tests for grain geometry (MODEL.md, "Grains"): the solids (Polyhedron: cube, rhombic
+// Unit tests for grain geometry (docs/model.md, "Grains"): the solids (Polyhedron: cube, rhombic
 // dodecahedron) and the sphere clumps built on them (GrainTemplate).
 //
 // Independent references used here, so that the tests do not just replay the engine's formulas:
@@ -227,7 +227,7 @@ TEST(GrainTemplatePaper, SphereCountsAndRhombicDodecahedronDiameter) {
   const GrainTemplate rd(GrainGeometry{Shape::rhombic_dodecahedron, kSize, 10, 0.75});
   EXPECT_EQ(cube.sphere_count(), 488u);
   EXPECT_EQ(rd.sphere_count(), 974u);
-  EXPECT_NEAR(rd.diameter() / kSize, 0.1513, 0.5e-4);  // the 4-digit value quoted in MODEL.md
+  EXPECT_NEAR(rd.diameter() / kSize, 0.1513, 0.5e-4);  // the 4-digit value quoted in docs/model.md
   EXPECT_NEAR(cube.diameter() / kSize, 1 / 3.25, kRel);  // 9 * 0.25 + 1 = 3.25
 }
 
@@ -304,7 +304,7 @@ TEST(PolyhedronSolid, RhombicDodecahedronMetrics) {
   const double a = kSize;
   const Polyhedron rd = Polyhedron::make(Shape::rhombic_dodecahedron, a);
   ASSERT_EQ(rd.faces().size(), 12u);
-  // Closed forms from MODEL.md; a few flops each, so 1e-12 relative is rounding plus margin.
+  // Closed forms from docs/model.md; a few flops each, so 1e-12 relative is rounding plus margin.
   EXPECT_NEAR(rd.inradius(), a / (2 * kSqrt2), kRel * a);
   EXPECT_NEAR(rd.edge_length(), a * kSqrt3 / 4, kRel * a);
   EXPECT_NEAR(rd.face_area(), kSqrt2 * a * a / 8, kRel * a * a);

@@ -1,5 +1,5 @@
 // The two sliding cubes (paper section 3, Fig. 5) against the exact laws of the overlapping-sphere
-// model with the pre-strain held (MODEL.md, "Experiment 1"), for eps0 = 0.005 < eps_crit:
+// model with the pre-strain held (docs/model.md, "Two cubes sliding"), for eps0 = 0.005 < eps_crit:
 //  - P(0) = P0: only the N_f in-line pairs touch, each with overlap l eps0, and N_f k_n = E l.
 //  - f = 0, u = m s: the N_e - m aligned rows carry everything, P/P0 = 1 - m/N_e, T = 0.
 //  - the last pair separates at u = l - d + sqrt(d^2 - (d - l eps0)^2).
