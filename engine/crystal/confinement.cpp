@@ -2,9 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <tuple>
 
 namespace granulab {
+
+void write_confinement(SummaryWriter& w, const ConfinementReport& r) {
+  w.begin_group("confinement");
+  w.count("steps", r.steps);
+  w.flag("converged", r.converged);
+  w.number("stress_top", r.stress_top, "Pa");
+  w.number("stress_bottom", r.stress_bottom, "Pa");
+  w.number("lateral_stress_x", r.lateral_stress_x, "Pa");
+  w.number("lateral_stress_y", r.lateral_stress_y, "Pa");
+  w.number("kinetic_elastic_ratio", r.kinetic_elastic_ratio, "-");
+  w.end_group();
+}
+
+void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r) {
+  if (r.converged) return;
+  w.text(nullptr, "confinement stopped after " + std::to_string(r.steps) +
+                      " steps without reaching equilibrium (platen stresses " + std::to_string(r.stress_top) + " and " +
+                      std::to_string(r.stress_bottom) + " Pa, kinetic/elastic energy " +
+                      std::to_string(r.kinetic_elastic_ratio) + "): what follows started from a sample not at rest");
+}
 
 ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, const ConfinementCheck& on_check) {
   ConfinementReport r;

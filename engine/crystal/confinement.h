@@ -10,6 +10,7 @@
 
 #include "engine/crystal/crystal_sample.h"
 #include "engine/experiments/result_sink.h"
+#include "engine/experiments/summary_writer.h"
 
 namespace granulab {
 
@@ -22,6 +23,11 @@ struct ConfinementReport {
   double lateral_stress_y = 0;         ///< (Pa)
   double kinetic_elastic_ratio = 0;    ///< at the end (-)
 };
+
+/// Writes the report as the summary group "confinement".
+void write_confinement(SummaryWriter& w, const ConfinementReport& r);
+/// When the confinement did not converge, a sentence saying so; call inside the "warnings" list.
+void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r);
 
 /// Called at each equilibrium check (every membrane_interval steps) with the steps taken so far.
 using ConfinementCheck = std::function<void(std::uint64_t steps)>;

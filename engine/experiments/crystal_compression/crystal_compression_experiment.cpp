@@ -20,15 +20,7 @@ struct CrystalSummary : ExperimentResult {
     w.number("strain_rate", r.strain_rate, "1/s");
     w.number("initial_length", r.initial_length, "m");
     w.number("cross_section", r.cross_section, "m^2");
-    w.begin_group("confinement");
-    w.count("steps", r.confinement.steps);
-    w.flag("converged", r.confinement.converged);
-    w.number("stress_top", r.confinement.stress_top, "Pa");
-    w.number("stress_bottom", r.confinement.stress_bottom, "Pa");
-    w.number("lateral_stress_x", r.confinement.lateral_stress_x, "Pa");
-    w.number("lateral_stress_y", r.confinement.lateral_stress_y, "Pa");
-    w.number("kinetic_elastic_ratio", r.confinement.kinetic_elastic_ratio, "-");
-    w.end_group();
+    write_confinement(w, r.confinement);
     // The paper does not say whether its sigma_y ~ 7 p0 is the total axial stress or the deviator: both.
     const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve, p0);
     double peak = 0, peak_strain = 0;
@@ -54,11 +46,7 @@ struct CrystalSummary : ExperimentResult {
     }
     w.end_list();
     w.begin_list("warnings");
-    if (!r.confinement.converged)
-      w.text(nullptr, "confinement stopped after " + std::to_string(r.confinement.steps) +
-                          " steps without reaching equilibrium (kinetic/elastic energy " +
-                          std::to_string(r.confinement.kinetic_elastic_ratio) + "): the loading started from a sample "
-                          "not at rest");
+    write_confinement_warning(w, r.confinement);
     w.end_list();
   }
 };

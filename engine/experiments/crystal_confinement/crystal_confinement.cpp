@@ -17,18 +17,9 @@ struct ConfinementSummary : ExperimentResult {
   void write_summary(SummaryWriter& w) const override {
     write_run_stats(w, run);
     w.number("prestrain", prestrain, "-");
-    w.begin_group("confinement");
-    w.count("steps", report.steps);
-    w.flag("converged", report.converged);
-    w.number("stress_top", report.stress_top, "Pa");
-    w.number("stress_bottom", report.stress_bottom, "Pa");
-    w.number("lateral_stress_x", report.lateral_stress_x, "Pa");
-    w.number("lateral_stress_y", report.lateral_stress_y, "Pa");
-    w.number("kinetic_elastic_ratio", report.kinetic_elastic_ratio, "-");
-    w.end_group();
+    write_confinement(w, report);
     w.begin_list("warnings");
-    if (!report.converged)
-      w.text(nullptr, "confinement stopped after " + std::to_string(report.steps) + " steps without reaching equilibrium");
+    write_confinement_warning(w, report);
     w.end_list();
   }
 };
