@@ -13,7 +13,7 @@ Command line (prints JSON, or CSV for `curve --csv`):
     granulab_client.py [--server URL] status ID | wait ID | cancel ID | snapshots ID
     granulab_client.py [--server URL] curve ID [--csv]
     granulab_client.py [--server URL] list [--status S] [--limit N] [--offset N]
-    granulab_client.py [--server URL] health
+    granulab_client.py [--server URL] health | experiments
 
 Requires Python >= 3.9 and nothing outside the standard library.
 """
@@ -149,6 +149,7 @@ class Client:
             time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
 
     def curve(self, job_id):
+        """The curve as JSON columns; while the job runs, the rows computed so far."""
         return self._request("GET", f"/v1/jobs/{int(job_id)}/curve")
 
     def curve_csv(self, job_id):
@@ -169,6 +170,10 @@ class Client:
 
     def health(self):
         return self._request("GET", "/v1/health")
+
+    def experiments(self):
+        """Every experiment the server runs: its spec fields (default, range, unit) and curve columns."""
+        return self._request("GET", "/v1/experiments").get("experiments", [])
 
 
 # -- command line ----------------------------------------------------------------------------------
@@ -196,6 +201,7 @@ def main(argv=None):
     ls.add_argument("--limit", type=int, default=50)
     ls.add_argument("--offset", type=int, default=0)
     sub.add_parser("health")
+    sub.add_parser("experiments", help="every experiment: spec fields with defaults, ranges, units; curve columns")
     a = p.parse_args(argv)
 
     client = Client(a.server)
@@ -228,6 +234,8 @@ def main(argv=None):
             _print_json(client.list(status=a.status, limit=a.limit, offset=a.offset))
         elif a.cmd == "health":
             _print_json(client.health())
+        elif a.cmd == "experiments":
+            _print_json(client.experiments())
     except BrokenPipeError:  # e.g. `... list | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -80,6 +80,15 @@ class PythonClientTest(unittest.TestCase):
         h = self.client.health()
         self.assertEqual(h.get("status"), "ok")
 
+    def test_experiments_describe_the_fields_a_spec_may_hold(self):
+        experiments = {e["name"]: e for e in self.client.experiments()}
+        self.assertIn("two_cube_sliding", experiments)
+        fields = {f["field"]: f for f in experiments["two_cube_sliding"]["fields"]}
+        self.assertEqual(fields["grain.edge_spheres"]["default"], 10)
+        self.assertEqual(fields["grain.size"]["unit"], "m")
+        columns = [c["name"] for c in experiments["two_cube_sliding"]["curve_columns"]]
+        self.assertEqual(columns, CSV_HEADER.split(","))
+
     def test_submit_wait_curve_list(self):
         job = self.client.submit(TINY)
         self.assertIsInstance(job, int)
