@@ -1,5 +1,6 @@
 #include "api/spec.h"
 
+#include "api/bounded_json.h"
 #include "api/spec_reader.h"
 
 namespace granulab::api {
@@ -32,14 +33,6 @@ Spec parse_spec(const nlohmann::json& document) {
   return spec;
 }
 
-Spec parse_spec_text(const std::string& text) {
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range 406 for 1e400
-    throw SpecError("invalid_json", "", std::string("the spec is not valid JSON: ") + e.what());
-  }
-  return parse_spec(document);
-}
+Spec parse_spec_text(const std::string& text) { return parse_spec(parse_bounded_json(text)); }
 
 }  // namespace granulab::api

@@ -2,6 +2,8 @@
 
 
 #include <atomic>
+#include <cstdint>
+#include <optional>
 #include <chrono>
 #include <fstream>
 #include <sstream>
@@ -26,7 +28,20 @@ using nlohmann::json;
 
 void reply(httplib::Response& res, int status, const json& body) {
   res.status = status;
-  res.set_content(body.dump() + "\n", "application/json");
+  // Messages may quote what a request sent: invalid UTF-8 is replaced, never thrown on.
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace) + "\n", "application/json");
+}
+
+// A path id of 1 to 18 digits (the route's regex has already checked they are digits); anything longer
+// cannot be a job, snapshot or row number, so it is simply not found. No exception either way.
+std::optional<std::int64_t> path_id(const std::string& digits) {
+  if (digits.empty() || digits.size() > 18) return std::nullopt;
+  std::int64_t v = 0;
+  for (char c : digits) {
+    if (c < '0' || c > '9') return std::nullopt;
+    v = 10 * v + (c - '0');
+  }
+  return v;
 }
 
 void error(httplib::Response& res, int status, const std::string& code, const std::string& message,
@@ -60,11 +75,10 @@ json job_json(const JobRecord& j, bool full) {
 bool query_int(const httplib::Request& req, httplib::Response& res, const char* name, long lo, long hi, long& value) {
   if (!req.has_param(name)) return true;
   const std::string text = req.get_param_value(name);
-  try {
-    std::size_t used = 0;
-    value = std::stol(text, &used);
-    if (used == text.size() && value >= lo && value <= hi) return true;
-  } catch (const std::exception&) {
+  const bool negative = !text.empty() && text[0] == '-';
+  if (const auto v = path_id(negative ? text.substr(1) : text)) {
+    value = negative ? -*v : *v;
+    if (value >= lo && value <= hi) return true;
   }
   error(res, 400, "out_of_range",
         std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
@@ -116,6 +130,22 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
   http_->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
     static std::atomic<std::uint64_t> next{1};
     res.set_header("X-Request-Id", std::to_string(next++));
+  });
+  // Nothing a handler throws reaches the framework or the client: a JSON 500 with the request id, and the
+  // exception text only in the daemon's log.
+  http_->set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown exception";
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    static std::atomic<std::uint64_t> next_error{1};
+    const std::string id = "e" + std::to_string(next_error++);
+    spdlog::error("{} {} -> 500 ({}): {}", req.method, req.path, id, what);
+    res.set_header("X-Request-Id", id);
+    error(res, 500, "internal", "internal error; the server's log has it under request id " + id);
   });
   http_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
     spdlog::info("{} {} {} -> {} ({} bytes) id={}", req.remote_addr, req.method, req.path, res.status, res.body.size(),
@@ -198,29 +228,30 @@ void HttpServer::routes() {
   });
 
   http_->Get(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
-    const auto job = store_.get(std::stoll(req.matches[1]));
+    const auto id = path_id(req.matches[1]);
+    const auto job = id ? store_.get(*id) : std::nullopt;
     if (!job) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
     reply(res, 200, job_json(*job, true));
   });
 
   http_->Post(R"(/v1/jobs/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = std::stoll(req.matches[1]);
+    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
     switch (store_.request_cancel(id)) {
       case JobStore::CancelResult::cancelled_queued:
         return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
       case JobStore::CancelResult::requested_running:
         return reply(res, 202, {{"id", id}, {"status", "running"}, {"cancel_requested", true}});
       case JobStore::CancelResult::not_found:
-        return error(res, 404, "not_found", "no job " + std::to_string(id));
+        return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
       case JobStore::CancelResult::wrong_state:
         return error(res, 409, "wrong_state", "job " + std::to_string(id) + " has already finished");
     }
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/curve)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = std::stoll(req.matches[1]);
+    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
     const auto job = store_.get(id);
-    if (!job) return error(res, 404, "not_found", "no job " + std::to_string(id));
+    if (!job) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
     // A finished job's stored curve; a running job's rows so far; what a cancelled or failed one computed.
     const bool csv = req.has_param("format") && req.get_param_value("format") == "csv";
     if (job->status == "succeeded" && !csv)
@@ -233,17 +264,17 @@ void HttpServer::routes() {
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/snapshots)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = std::stoll(req.matches[1]);
-    if (!store_.get(id)) return error(res, 404, "not_found", "no job " + std::to_string(id));
+    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
+    if (!store_.get(id)) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
     json list = json::array();
     for (const auto& s : store_.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
     reply(res, 200, {{"snapshots", list}});
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = std::stoll(req.matches[1]);
-    const auto blob = store_.snapshot(id, std::stoi(req.matches[2]));
-    if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(id));
+    const auto id = path_id(req.matches[1]), index = path_id(req.matches[2]);
+    const auto blob = id && index && *index <= INT32_MAX ? store_.snapshot(*id, int(*index)) : std::nullopt;
+    if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
     res.set_content(std::string(blob->begin(), blob->end()), "application/json");
   });
 }

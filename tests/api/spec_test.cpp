@@ -278,10 +278,15 @@ const std::vector<ErrorCase> kErrorCases = {
     {"TruncatedJson", R"({"grain": {"size": 0.01})", "invalid_json", ""},
     {"EmptyText", "", "invalid_json", ""},
     {"NanLiteral", R"({"grain": {"size": NaN}})", "invalid_json", ""},
-    // 1e400 overflows a double: nlohmann rejects it while parsing (out_of_range 406), which must still
-    // surface as a SpecError, not as a nlohmann exception.
-    {"HugeNumber", R"({"grain": {"size": 1e400}})", "invalid_json", ""},
-    {"HugeNegativeNumber", R"({"material": {"friction": -1e400}})", "invalid_json", ""},
+    // 1e400 overflows a double: the parser stops there, and the error names the field it was given for.
+    {"HugeNumber", R"({"grain": {"size": 1e400}})", "out_of_range", "grain.size", "too large"},
+    {"HugeNegativeNumber", R"({"material": {"friction": -1e400}})", "out_of_range", "material.friction"},
+    {"HugeNumberInAList", R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0, 1e999]}})",
+     "out_of_range", "output.snapshot_strains[1]"},
+    // Nesting is bounded while parsing (the limit is 64 levels).
+    {"TooDeep", std::string(65, '[') + std::string(65, ']'), "too_deep", "[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]", "64"},
+    {"TooDeepInALabel", R"({"label": )" + std::string(100, '[') + "1" + std::string(100, ']') + "}", "too_deep", "label[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]"},
+    {"InvalidUtf8InALabel", "{\"label\": \"caf\xe9\"}", "invalid_json", ""},
 };
 
 class SpecErrorTest : public ::testing::TestWithParam<ErrorCase> {};
@@ -320,6 +325,35 @@ TEST(SpecErrors, NonFiniteNumberFromCodeIsOutOfRange) {
       EXPECT_EQ(e.code, "out_of_range");
       EXPECT_EQ(e.field, "grain.size");
     }
+  }
+}
+
+TEST(SpecErrors, AHugelyNestedDocumentIsRefusedAtTheLimitNotParsed) {
+  // 150,000 levels (300 KB) crashed a recursive parser; this one stops at level 65.
+  const std::string deep = std::string(150000, '[') + std::string(150000, ']');
+  try {
+    parse_spec_text(deep);
+    FAIL() << "accepted";
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.code, "too_deep");
+  }
+  // 64 levels are fine as JSON (the spec then rejects an array document, naming no field).
+  try {
+    parse_spec_text(std::string(64, '[') + std::string(64, ']'));
+    FAIL() << "accepted";
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.code, "wrong_type");
+  }
+}
+
+TEST(SpecErrors, InvalidUtf8GivesAMessageThatIsValidJson) {
+  try {
+    parse_spec_text("{\"label\": \"\xff\xfe\"}");
+    FAIL() << "accepted";
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.code, "invalid_json");
+    EXPECT_NE(std::string(e.what()).find("UTF-8"), std::string::npos) << e.what();
+    EXPECT_NO_THROW(json({{"message", e.what()}}).dump());  // the server can answer with it
   }
 }
 

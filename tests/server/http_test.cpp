@@ -453,3 +453,61 @@ TEST_F(Daemon, BuildsOfDifferentEngineSourcesDoNotShareResults) {
 
 }  // namespace
 }  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// Requests that once crashed the daemon or made it answer 500 with the exception's text: each gets its
+// documented status, a JSON error, and the daemon keeps serving.
+TEST_F(Daemon, HostileInputGetsAnAnswerNotACrash) {
+  struct Case {
+    std::string method, path, body;
+    int status;
+    std::string code, field;
+  };
+  const std::string deep = std::string(30000, '[') + std::string(30000, ']');  // 60 KB, under this daemon's 64 KB
+  const std::vector<Case> cases = {
+      {"POST", "/v1/jobs", deep, 400, "too_deep", ""},
+      {"POST", "/v1/jobs", "{\"label\": \"caf\xe9\"}", 400, "invalid_json", ""},
+      {"POST", "/v1/jobs", R"({"grain": {"size": 1e400}})", 400, "out_of_range", "grain.size"},
+      {"POST", "/v1/jobs", R"({"material": {"friction": -1e400}})", 400, "out_of_range", "material.friction"},
+      {"GET", "/v1/jobs/123456789012345678901", "", 404, "not_found", ""},
+      {"GET", "/v1/jobs/99999999999999999999/curve", "", 404, "not_found", ""},
+      {"POST", "/v1/jobs/99999999999999999999/cancel", "", 404, "not_found", ""},
+      {"GET", "/v1/jobs/1/snapshots/4294967296", "", 404, "not_found", ""},
+      {"GET", "/v1/jobs/1/snapshots/99999999999999999999999", "", 404, "not_found", ""},
+      {"GET", "/v1/jobs?limit=%FF", "", 400, "out_of_range", "limit"},
+      {"GET", "/v1/jobs?offset=99999999999999999999", "", 400, "out_of_range", "offset"},
+      {"GET", "/v1/jobs?status=%FF%FE", "", 400, "invalid_value", "status"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.method + " " + c.path.substr(0, 60));
+    auto r = c.method == "GET" ? client_->Get(c.path.c_str()) : client_->Post(c.path.c_str(), c.body, "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, c.status) << r->body.substr(0, 300);
+    const json e = json::parse(r->body);  // valid JSON, whatever the request held
+    EXPECT_EQ(e["error"]["code"], c.code) << r->body.substr(0, 300);
+    if (!c.field.empty()) {
+      EXPECT_EQ(e["error"]["field"], c.field);
+    }
+  }
+  EXPECT_EQ(get("/v1/health")["status"], "ok");
+}
+
+// Whatever a handler throws (here: a stored spec that is not JSON, as a damaged file could hold) becomes a
+// JSON 500 with a request id, and the exception's text stays in the log.
+TEST_F(Daemon, AnythingAHandlerThrowsIsAJson500WithoutTheExceptionText) {
+  const std::int64_t id = store_->submit("{not json", "two_cube_sliding", "", "", "", "", 0);
+  auto r = client_->Get(("/v1/jobs/" + std::to_string(id)).c_str());
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 500);
+  const json e = json::parse(r->body);
+  EXPECT_EQ(e["error"]["code"], "internal");
+  EXPECT_EQ(r->body.find("parse_error"), std::string::npos) << r->body;
+  EXPECT_NE(r->get_header_value("X-Request-Id"), "");
+  EXPECT_NE(e["error"]["message"].get<std::string>().find(r->get_header_value("X-Request-Id")), std::string::npos);
+  EXPECT_EQ(get("/v1/health")["status"], "ok");
+}
+
+}  // namespace
+}  // namespace granulab::server
