@@ -116,6 +116,9 @@ std::string HttpServer::user_of(const std::string& authorization) const {
 HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
     : store_(store), pool_(pool), options_(options), http_(std::make_unique<httplib::Server>()) {
   http_->set_payload_max_length(options_.max_body_bytes);
+  // Answers go out at once: with Nagle's algorithm a kept-alive connection waited for the client's delayed
+  // ACK on every request (26 ms each, 38 requests/s, against 4,000/s on fresh connections).
+  http_->set_tcp_nodelay(true);
   const int n = options_.handler_threads;
   http_->new_task_queue = [n] { return new httplib::ThreadPool(std::size_t(n)); };
   // Every response carries a request id; one access-log line per request.

@@ -511,3 +511,23 @@ TEST_F(Daemon, AnythingAHandlerThrowsIsAJson500WithoutTheExceptionText) {
 
 }  // namespace
 }  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// Requests on one kept-alive connection do not wait for the client's delayed ACK (Nagle): 100 of them
+// took 2.6 s before TCP_NODELAY (26 ms each), 0.02 s after. The bound leaves a 100x margin for a slow machine.
+TEST_F(Daemon, KeptAliveRequestsDoNotStall) {
+  httplib::Client c("127.0.0.1", port_);
+  c.set_keep_alive(true);
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < 100; ++k) {
+    auto r = c.Get("/v1/health");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200);
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
+}
+
+}  // namespace
+}  // namespace granulab::server
