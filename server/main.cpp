@@ -11,6 +11,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "api/int_option.h"
 #include "api/passive_openmp.h"
 #include "server/routes.h"
 #include "server/store/job_store.h"
@@ -22,22 +23,16 @@ namespace {
 
 const char* kUsage =
     "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
+    "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
+    "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
-    "  --token-file: lines '<user> <token>'; then every route but /v1/health needs 'Authorization: Bearer'\n";
+    "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
+    "            --keep-alive-timeout 5 --max-connections 512\n"
+    "  --token-file: lines '<user> <token> [admin]'; then every route but /v1/health needs\n"
+    "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it\n"
+    "  --private: reading a job is also for its owner and admins only (default: the lab reads everything)\n";
 
-int parse_int(const std::string& flag, const std::string& text, int lo, int hi) {
-  std::size_t used = 0;
-  int v = 0;
-  try {
-    v = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || v < lo || v > hi)
-    throw std::invalid_argument("'" + flag + "' must be an integer in [" + std::to_string(lo) + ", " +
-                                std::to_string(hi) + "], got '" + text + "'");
-  return v;
-}
+using granulab::api::parse_int_option;
 
 }  // namespace
 
@@ -46,7 +41,8 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
   std::string host = "127.0.0.1", db = "var/granulab.db", token_file;
-  int port = 8080, workers = 1, threads = 0;
+  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0;
+  HttpOptions options;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
     for (int i = 1; i < argc; ++i) {
@@ -55,14 +51,23 @@ int main(int argc, char** argv) {
         std::cout << kUsage;
         return 0;
       }
+      if (a == "--private") {
+        options.private_reads = true;
+        continue;
+      }
       if (i + 1 >= argc) throw std::invalid_argument("'" + a + "' needs a value\n" + kUsage);
       const std::string v = argv[++i];
       if (a == "--host") host = v;
-      else if (a == "--port") port = parse_int(a, v, 0, 65535);
+      else if (a == "--port") port = parse_int_option(a, v, 0, 65535);
       else if (a == "--db") db = v;
-      else if (a == "--workers") workers = parse_int(a, v, 1, 256);
-      else if (a == "--threads") threads = parse_int(a, v, 1, 256);
+      else if (a == "--workers") workers = parse_int_option(a, v, 1, 256);
+      else if (a == "--threads") threads = parse_int_option(a, v, 1, 256);
       else if (a == "--token-file") token_file = v;
+      else if (a == "--max-queued-per-user") options.max_queued_per_user = parse_int_option(a, v, 0, 1000000);
+      else if (a == "--max-running-per-user") max_running_per_user = parse_int_option(a, v, 0, 1000000);
+      else if (a == "--request-timeout") options.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+      else if (a == "--keep-alive-timeout") options.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+      else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
       else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
     }
     // Workers x engine threads never exceed the cores.
@@ -87,8 +92,12 @@ int main(int argc, char** argv) {
     const std::size_t requeued = store.requeue_running();
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
     WorkerPool pool(store, workers, threads);
-    HttpOptions options;
-    if (!token_file.empty()) options.tokens = read_token_file(token_file);
+    pool.set_max_running_per_owner(max_running_per_user);
+    if (!token_file.empty()) {
+      std::string warning;
+      options.tokens = read_token_file(token_file, &warning);
+      if (!warning.empty()) spdlog::warn("{}", warning);
+    }
     HttpServer http(store, pool, options);
     const int bound = http.bind(host, port);
     if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port));

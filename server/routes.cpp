@@ -6,7 +6,10 @@
 #include <optional>
 #include <chrono>
 #include <fstream>
+#include <set>
 #include <sstream>
+
+#include <sys/stat.h>
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -20,7 +23,85 @@
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 namespace granulab::server {
+
+namespace {
+
+// One complete request, already in memory (the ConnectionLoop read it), as the stream cpp-httplib parses;
+// the response goes straight to the socket.
+class BufferedStream : public httplib::Stream {
+ public:
+  BufferedStream(int fd, const std::string& request, int write_timeout_ms)
+      : fd_(fd), request_(request), write_timeout_ms_(write_timeout_ms) {}
+  bool is_readable() const override { return position_ < request_.size(); }
+  bool is_writable() const override { return true; }  // writes wait themselves, bounded by the timeout
+  ssize_t read(char* out, size_t size) override {
+    size = std::min(size, request_.size() - position_);
+    std::copy_n(request_.data() + position_, size, out);
+    position_ += size;
+    return ssize_t(size);
+  }
+  ssize_t write(const char* data, size_t size) override {
+    return send_all(fd_, data, size, write_timeout_ms_) ? ssize_t(size) : -1;
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override { address(::getpeername, ip, port); }
+  void get_local_ip_and_port(std::string& ip, int& port) const override { address(::getsockname, ip, port); }
+  socket_t socket() const override { return fd_; }
+
+ private:
+  template <typename Query>
+  void address(Query query, std::string& ip, int& port) const {
+    sockaddr_storage a{};
+    socklen_t length = sizeof a;
+    ip.clear();
+    port = 0;
+    if (query(fd_, reinterpret_cast<sockaddr*>(&a), &length) != 0) return;
+    char text[INET6_ADDRSTRLEN] = {};
+    if (a.ss_family == AF_INET) {
+      const auto* v4 = reinterpret_cast<const sockaddr_in*>(&a);
+      ::inet_ntop(AF_INET, &v4->sin_addr, text, sizeof text);
+      port = ntohs(v4->sin_port);
+    } else if (a.ss_family == AF_INET6) {
+      const auto* v6 = reinterpret_cast<const sockaddr_in6*>(&a);
+      ::inet_ntop(AF_INET6, &v6->sin6_addr, text, sizeof text);
+      port = ntohs(v6->sin6_port);
+    }
+    ip = text;
+  }
+  int fd_;
+  const std::string& request_;
+  std::size_t position_ = 0;
+  int write_timeout_ms_;
+};
+
+}  // namespace
+
+// cpp-httplib's server with its connection handling replaced: accepted sockets go to the ConnectionLoop,
+// and complete requests come back to process_request (parsing, routing, writing the response).
+class LoopServer : public httplib::Server {
+ public:
+  ConnectionLoop* loop = nullptr;
+  /// cpp-httplib listens with a backlog of 5: a burst of connections beyond it waited seconds for the
+  /// kernel's SYN-ACK retries. Listening again on the bound socket raises it (Linux keeps the socket).
+  void raise_backlog() { ::listen(svr_sock_, SOMAXCONN); }
+  int write_timeout_ms = 10000;
+  bool answer(int fd, const std::string& request, bool last) {
+    BufferedStream stream(fd, request, write_timeout_ms);
+    bool closed = false;
+    const bool ok = process_request(stream, last, closed, [](httplib::Request&) {});
+    return ok && !closed;
+  }
+
+ private:
+  bool process_and_close_socket(socket_t sock) override {
+    loop->adopt(sock);
+    return true;
+  }
+};
 
 namespace {
 
@@ -89,43 +170,88 @@ bool query_int(const httplib::Request& req, httplib::Response& res, const char* 
 
 }  // namespace
 
-std::map<std::string, std::string> read_token_file(const std::string& path) {
+std::map<std::string, User> read_token_file(const std::string& path, std::string* warning) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("cannot read token file '" + path + "'");
-  std::map<std::string, std::string> tokens;
+  struct stat info {};
+  if (warning && ::stat(path.c_str(), &info) == 0 && (info.st_mode & (S_IRGRP | S_IROTH)))
+    *warning = "token file '" + path + "' is readable by other users of this machine (chmod 600 it)";
+  std::map<std::string, User> tokens;
+  std::set<std::string> users;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     std::istringstream fields(line);
-    std::string user, token, extra;
+    std::string user, token, role, extra;
     if (!(fields >> user) || user[0] == '#') continue;
-    if (!(fields >> token) || (fields >> extra))
-      throw std::invalid_argument(path + ":" + std::to_string(number) + ": expected '<user> <token>'");
-    tokens[token] = user;
+    const std::string where = path + ":" + std::to_string(number) + ": ";
+    if (!(fields >> token) || ((fields >> role) && role != "admin") || (fields >> extra))
+      throw std::invalid_argument(where + "expected '<user> <token> [admin]'");
+    // One token names one user: a shared token would make two people one owner.
+    if (tokens.count(token)) throw std::invalid_argument(where + "this token is already given to '" + tokens[token].name + "'");
+    if (!users.insert(user).second) throw std::invalid_argument(where + "user '" + user + "' already has a token");
+    tokens[token] = User{user, role == "admin"};
   }
   if (tokens.empty()) throw std::invalid_argument("token file '" + path + "' holds no token");
   return tokens;
 }
 
-std::string HttpServer::user_of(const std::string& authorization) const {
-  const std::string prefix = "Bearer ";
-  if (authorization.rfind(prefix, 0) != 0) return "";
+std::optional<User> HttpServer::caller(const httplib::Request& req) const {
+  if (options_.tokens.empty()) return User{"", true};  // an open server: everyone may do everything
+  const std::string authorization = req.get_header_value("Authorization"), prefix = "Bearer ";
+  if (authorization.rfind(prefix, 0) != 0) return std::nullopt;
   const auto it = options_.tokens.find(authorization.substr(prefix.size()));
-  return it == options_.tokens.end() ? "" : it->second;
+  if (it == options_.tokens.end()) return std::nullopt;
+  return it->second;
+}
+
+std::optional<JobRecord> HttpServer::job_for(const httplib::Request& req, httplib::Response& res, const char* action,
+                                            bool write) {
+  const auto id = path_id(req.matches[1]);
+  auto job = id ? store_.get(*id) : std::nullopt;
+  if (!job) {
+    error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
+    return std::nullopt;
+  }
+  const User who = caller(req).value_or(User{});  // the pre-routing handler let only known tokens through
+  if (who.admin || job->owner == who.name || (!write && !options_.private_reads)) return job;
+  error(res, 403, "forbidden",
+        "job " + std::to_string(job->id) + " belongs to '" + job->owner + "': only its owner or an admin may " + action +
+            " it");
+  return std::nullopt;
 }
 
 HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
-    : store_(store), pool_(pool), options_(options), http_(std::make_unique<httplib::Server>()) {
+    : store_(store), pool_(pool), options_(options), http_(std::make_unique<LoopServer>()) {
+  ConnectionOptions connection;
+  connection.limits.max_body_bytes = options_.max_body_bytes;
+  connection.handler_threads = options_.handler_threads;
+  connection.max_connections = options_.max_connections;
+  connection.request_timeout_ms = options_.request_timeout_ms;
+  connection.keep_alive_timeout_ms = options_.keep_alive_timeout_ms;
+  connection.keep_alive_max_requests = options_.keep_alive_max_requests;
+  connections_ = std::make_unique<ConnectionLoop>(
+      connection, [this](int fd, const std::string& request, bool last) { return http_->answer(fd, request, last); });
+  http_->loop = connections_.get();
+  http_->write_timeout_ms = connection.write_timeout_ms;
   http_->set_payload_max_length(options_.max_body_bytes);
+  // The Keep-Alive header cpp-httplib writes states the loop's policy.
+  http_->set_keep_alive_max_count(std::size_t(options_.keep_alive_max_requests));
+  http_->set_keep_alive_timeout(std::max(1, options_.keep_alive_timeout_ms / 1000));
+  // Only SO_REUSEADDR: cpp-httplib's default adds SO_REUSEPORT, which let a second daemon bind the same
+  // port and take half the requests.
+  http_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   // Answers go out at once: with Nagle's algorithm a kept-alive connection waited for the client's delayed
   // ACK on every request (26 ms each, 38 requests/s, against 4,000/s on fresh connections).
   http_->set_tcp_nodelay(true);
-  const int n = options_.handler_threads;
-  http_->new_task_queue = [n] { return new httplib::ThreadPool(std::size_t(n)); };
+  // The accept thread only hands sockets to the loop: one task thread is plenty.
+  http_->new_task_queue = [] { return new httplib::ThreadPool(1); };
   // Every response carries a request id; one access-log line per request.
   // With tokens, every route but health needs a known bearer token.
   http_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (options_.tokens.empty() || req.path == "/v1/health") return httplib::Server::HandlerResponse::Unhandled;
-    if (!user_of(req.get_header_value("Authorization")).empty()) return httplib::Server::HandlerResponse::Unhandled;
+    if (req.path == "/v1/health" || caller(req)) return httplib::Server::HandlerResponse::Unhandled;
     error(res, 401, "unauthorized",
           req.has_header("Authorization") ? "unknown access token" : "this server needs 'Authorization: Bearer <token>'");
     return httplib::Server::HandlerResponse::Handled;
@@ -158,21 +284,27 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
     if (!res.body.empty()) return;
     if (res.status == 413) error(res, 413, "too_large", "request body too large");
     else if (res.status == 404) error(res, 404, "not_found", "no such route");
-    // cpp-httplib rejects a POST without Content-Length before routing (e.g. `curl -X POST` with no -d).
-    else if (res.status == 400) error(res, 400, "bad_request", "malformed request: a POST needs a body or Content-Length: 0");
+    else if (res.status == 400) error(res, 400, "bad_request", "malformed request");
     else error(res, res.status, "http_error", "request failed with HTTP " + std::to_string(res.status));
   });
   routes();
 }
 
-HttpServer::~HttpServer() { stop(); }
-
-int HttpServer::bind(const std::string& host, int port) {
-  if (port == 0) return http_->bind_to_any_port(host);
-  return http_->bind_to_port(host, port) ? port : -1;
+HttpServer::~HttpServer() {
+  stop();
+  connections_->stop();
 }
 
-void HttpServer::serve() { http_->listen_after_bind(); }
+int HttpServer::bind(const std::string& host, int port) {
+  const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
+  if (bound > 0) http_->raise_backlog();
+  return bound;
+}
+
+void HttpServer::serve() {
+  http_->listen_after_bind();
+  connections_->stop();  // answers what was already read, closes the rest
+}
 
 void HttpServer::stop() {
   if (http_->is_running()) http_->stop();
@@ -210,8 +342,14 @@ void HttpServer::routes() {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    const User who = caller(req).value_or(User{});
+    if (options_.max_queued_per_user > 0 && store_.count("queued", who.name) >= std::size_t(options_.max_queued_per_user))
+      return error(res, 429, "quota",
+                   (who.name.empty() ? std::string("the server") : "user '" + who.name + "'") + " already has " +
+                       std::to_string(options_.max_queued_per_user) +
+                       " queued jobs (max_queued_per_user); wait for some to start or cancel some");
     const std::int64_t id = store_.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
-                                          user_of(req.get_header_value("Authorization")), int(priority));
+                                          who.name, int(priority));
     pool_.notify();
     reply(res, 201, {{"id", id}, {"status", "queued"}});
   });
@@ -225,20 +363,55 @@ void HttpServer::routes() {
       return error(res, 400, "invalid_value",
                    "'status' must be one of: queued, running, succeeded, failed, cancelled, got '" + status + "'",
                    "status");
+    std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
+    const User who = caller(req).value_or(User{});
+    if (options_.private_reads && !who.admin) {
+      if (!owner.empty() && owner != who.name)
+        return error(res, 403, "forbidden", "this server is private: you may list only your own jobs", "owner");
+      owner = who.name;
+    }
     json jobs = json::array();
-    for (const JobRecord& j : store_.list(status, int(limit), int(offset))) jobs.push_back(job_json(j, false));
+    for (const JobRecord& j : store_.list(status, int(limit), offset, owner)) jobs.push_back(job_json(j, false));
     reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
   });
 
   http_->Get(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
-    const auto id = path_id(req.matches[1]);
-    const auto job = id ? store_.get(*id) : std::nullopt;
-    if (!job) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
-    reply(res, 200, job_json(*job, true));
+    if (const auto job = job_for(req, res, "read", false)) reply(res, 200, job_json(*job, true));
+  });
+
+  http_->Delete(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = job_for(req, res, "delete", true);
+    if (!job) return;
+    switch (store_.remove(job->id)) {
+      case JobStore::WriteResult::done:
+        return reply(res, 200, {{"id", job->id}, {"deleted", true}});
+      case JobStore::WriteResult::not_found:
+        return error(res, 404, "not_found", "no job " + std::to_string(job->id));
+      case JobStore::WriteResult::wrong_state:
+        return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + ": cancel it first");
+    }
+  });
+
+  http_->Post(R"(/v1/jobs/(\d+)/priority)", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = job_for(req, res, "re-prioritise", true);
+    if (!job) return;
+    long priority = 0;
+    if (!req.has_param("value")) return error(res, 400, "missing", "'value' (the new priority, -100 to 100) is required", "value");
+    if (!query_int(req, res, "value", -100, 100, priority)) return;
+    switch (store_.set_priority(job->id, int(priority))) {
+      case JobStore::WriteResult::done:
+        return reply(res, 200, {{"id", job->id}, {"priority", priority}});
+      case JobStore::WriteResult::not_found:
+        return error(res, 404, "not_found", "no job " + std::to_string(job->id));
+      case JobStore::WriteResult::wrong_state:
+        return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is no longer queued");
+    }
   });
 
   http_->Post(R"(/v1/jobs/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
+    const auto job = job_for(req, res, "cancel", true);
+    if (!job) return;
+    const std::int64_t id = job->id;
     switch (store_.request_cancel(id)) {
       case JobStore::CancelResult::cancelled_queued:
         return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
@@ -252,11 +425,14 @@ void HttpServer::routes() {
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/curve)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
-    const auto job = store_.get(id);
-    if (!job) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const std::int64_t id = job->id;
     // A finished job's stored curve; a running job's rows so far; what a cancelled or failed one computed.
-    const bool csv = req.has_param("format") && req.get_param_value("format") == "csv";
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+    if (format != "json" && format != "csv")
+      return error(res, 400, "invalid_value", "'format' must be json or csv, got '" + format + "'", "format");
+    const bool csv = format == "csv";
     if (job->status == "succeeded" && !csv)
       if (const auto json_text = store_.curve_json(id)) return res.set_content(*json_text, "application/json");
     const auto text = store_.live_curve_csv(id);
@@ -267,16 +443,19 @@ void HttpServer::routes() {
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/snapshots)", [this](const httplib::Request& req, httplib::Response& res) {
-    const std::int64_t id = path_id(req.matches[1]).value_or(0);  // 0: no job has it
-    if (!store_.get(id)) return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const std::int64_t id = job->id;
     json list = json::array();
     for (const auto& s : store_.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
     reply(res, 200, {{"snapshots", list}});
   });
 
   http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
-    const auto id = path_id(req.matches[1]), index = path_id(req.matches[2]);
-    const auto blob = id && index && *index <= INT32_MAX ? store_.snapshot(*id, int(*index)) : std::nullopt;
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const auto index = path_id(req.matches[2]);
+    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
     if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
     res.set_content(std::string(blob->begin(), blob->end()), "application/json");
   });

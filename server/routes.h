@@ -5,27 +5,48 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "server/connection_loop.h"
 #include "server/store/job_store.h"
 #include "server/worker_pool.h"
 
+
 namespace httplib {
-class Server;
-}
+struct Request;
+struct Response;
+}  // namespace httplib
 
 namespace granulab::server {
 
-struct HttpOptions {
-  std::size_t max_body_bytes = 1 << 20;  ///< larger request bodies get 413
-  int handler_threads = 8;
-  /// Access tokens (token -> user). When not empty, every route but /v1/health needs
-  /// `Authorization: Bearer <token>`, and jobs record their owner.
-  std::map<std::string, std::string> tokens;
+class LoopServer;  // cpp-httplib's server fed by the ConnectionLoop (routes.cpp)
+
+/// A token's holder. Admins may act on every job; others on their own (docs/api.md, "Users").
+struct User {
+  std::string name;
+  bool admin = false;
 };
 
-/// Reads a token file: one `<user> <token>` per line; blank lines and lines starting with # are skipped.
-std::map<std::string, std::string> read_token_file(const std::string& path);
+struct HttpOptions {
+  std::size_t max_body_bytes = 1 << 20;  ///< larger request bodies get 413 (chunked ones too)
+  int handler_threads = 8;               ///< threads answering complete requests (never engine workers)
+  /// Access tokens (token -> user). When not empty, every route but /v1/health needs
+  /// `Authorization: Bearer <token>`, jobs record their owner, and only the owner or an admin may
+  /// cancel, delete or re-prioritise a job.
+  std::map<std::string, User> tokens;
+  bool private_reads = false;            ///< reading a job is for its owner and admins only
+  int max_queued_per_user = 1000;        ///< more queued jobs of one user get 429
+  /// Timeouts and connection limits (docs/api.md, "Connections").
+  int request_timeout_ms = 10000;
+  int keep_alive_timeout_ms = 5000;
+  int keep_alive_max_requests = 100;
+  int max_connections = 512;
+};
+
+/// Reads a token file: one `<user> <token> [admin]` per line; blank lines and lines starting with # are
+/// skipped. A token or a user listed twice is an error; `warning` says so when others may read the file.
+std::map<std::string, User> read_token_file(const std::string& path, std::string* warning = nullptr);
 
 class HttpServer {
  public:
@@ -40,12 +61,16 @@ class HttpServer {
 
  private:
   void routes();
-  /// The user of the request's bearer token; "" when tokens are off.
-  std::string user_of(const std::string& authorization) const;
+  /// The holder of the request's bearer token; with tokens off, an anonymous admin.
+  std::optional<User> caller(const httplib::Request& req) const;
+  /// The job of the path's id if `who` may read it (or, `write`, change it); otherwise answers 404/403.
+  std::optional<JobRecord> job_for(const httplib::Request& req, httplib::Response& res, const char* action,
+                                   bool write);
   JobStore& store_;
   WorkerPool& pool_;
   HttpOptions options_;
-  std::unique_ptr<httplib::Server> http_;
+  std::unique_ptr<LoopServer> http_;
+  std::unique_ptr<ConnectionLoop> connections_;
 };
 
 }  // namespace granulab::server

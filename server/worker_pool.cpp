@@ -35,7 +35,7 @@ void WorkerPool::work() {
   // The engine's thread count is per calling thread in OpenMP: set once for this worker.
   omp_set_num_threads(threads_per_job_);
   while (!stopping_) {
-    std::optional<JobRecord> job = store_.claim_next();
+    std::optional<JobRecord> job = store_.claim_next(max_running_per_owner_);
     if (!job) {
       std::unique_lock<std::mutex> lock(mutex_);
       // Wake on notify(), or poll now and then in case another process queued work.

@@ -21,6 +21,8 @@ class WorkerPool {
   WorkerPool(JobStore& store, int workers, int threads_per_job, double progress_seconds = 1.0);
   ~WorkerPool();  // stop()
 
+  /// At most this many running jobs per owner (0 = no limit); set before start().
+  void set_max_running_per_owner(int n) { max_running_per_owner_ = n; }
   void start();
   /// A job was submitted: wake an idle worker.
   void notify();
@@ -40,6 +42,7 @@ class WorkerPool {
 
   JobStore& store_;
   int workers_, threads_per_job_;
+  int max_running_per_owner_ = 0;
   double progress_seconds_;
   std::vector<std::thread> threads_;
   std::mutex mutex_;

@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/engine_version.h"
+#include "api/int_option.h"
 #include "api/passive_openmp.h"
 #include "api/runner.h"
 #include "api/spec.h"
@@ -95,19 +96,6 @@ void print_profile(const fs::path& summary_path) {
                s["threads"].get<int>());
 }
 
-int parse_threads(const std::string& text) {
-  std::size_t used = 0;
-  long n = -1;
-  try {
-    n = std::stol(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || n < 1 || n > 256)
-    throw std::invalid_argument("'--threads' must be an integer in [1, 256], got '" + text + "'");
-  return int(n);
-}
-
 int run(int argc, char** argv) {
   std::string spec_path, out_dir;
   int threads = -1;
@@ -115,7 +103,7 @@ int run(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
-    else if (a == "--threads" && i + 1 < argc) threads = parse_threads(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc) threads = api::parse_int_option("--threads", argv[++i], 1, 256);
     else if (a == "--quiet") quiet = true;
     else if (a == "--profile") profile = true;
     else if (spec_path.empty() && a.rfind("--", 0) != 0) spec_path = a;

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/int_option.h"
+
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
 
@@ -45,8 +47,8 @@ Args parse(int argc, char** argv) {
     else if (s == "--out") a.out = value();
     else if (s == "--status") a.status = value();
     else if (s == "--reuse") a.reuse = true;
-    else if (s == "--priority") a.priority = std::stoi(value());
-    else if (s == "--limit") a.limit = std::stoi(value());
+    else if (s == "--priority") a.priority = api::parse_int_option(s, value(), -100, 100);
+    else if (s == "--limit") a.limit = api::parse_int_option(s, value(), 1, 1000);
     else if (a.target.empty() && s.rfind("--", 0) != 0) a.target = s;
     else throw std::invalid_argument("unexpected argument '" + s + "'");
   }

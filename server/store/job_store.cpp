@@ -73,12 +73,16 @@ std::int64_t JobStore::submit(const std::string& spec_json, const std::string& e
   return id;
 }
 
-std::optional<JobRecord> JobStore::claim_next() {
+std::optional<JobRecord> JobStore::claim_next(int max_running_per_owner) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   std::int64_t id = 0;
   {
-    Statement pick(*db_, "SELECT id FROM jobs WHERE status = 'queued' ORDER BY priority DESC, id ASC LIMIT 1");
+    // The best queued job whose owner is under the running quota; an owner at the quota waits, others pass.
+    Statement pick(*db_,
+                   "SELECT id FROM jobs AS q WHERE status = 'queued' AND (?1 <= 0 OR (SELECT count(*) FROM jobs AS r "
+                   "WHERE r.status = 'running' AND r.owner = q.owner) < ?1) ORDER BY priority DESC, id ASC LIMIT 1");
+    pick.bind(1, max_running_per_owner);
     if (!pick.step()) return std::nullopt;
     id = pick.column_int64(0);
   }
@@ -173,6 +177,45 @@ JobStore::CancelResult JobStore::request_cancel(std::int64_t id) {
   return result;
 }
 
+JobStore::WriteResult JobStore::remove(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  std::string status;
+  {
+    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
+    st.bind(1, id);
+    if (!st.step()) return WriteResult::not_found;
+    status = st.column_text(0);
+  }
+  if (status == "queued" || status == "running") return WriteResult::wrong_state;
+  for (const char* sql : {"DELETE FROM snapshots WHERE job_id = ?1", "DELETE FROM curve_rows WHERE job_id = ?1",
+                          "DELETE FROM curves WHERE job_id = ?1", "DELETE FROM jobs WHERE id = ?1"}) {
+    Statement st(*db_, sql);
+    st.bind(1, id).run();
+  }
+  log_event_locked(0, "deleted", "job " + std::to_string(id) + " (" + status + ") and its results");
+  tx.commit();
+  return WriteResult::done;
+}
+
+JobStore::WriteResult JobStore::set_priority(std::int64_t id, int priority) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  std::string status;
+  {
+    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
+    st.bind(1, id);
+    if (!st.step()) return WriteResult::not_found;
+    status = st.column_text(0);
+  }
+  if (status != "queued") return WriteResult::wrong_state;
+  Statement st(*db_, "UPDATE jobs SET priority = ?2 WHERE id = ?1");
+  st.bind(1, id).bind(2, priority).run();
+  log_event_locked(id, "priority", std::to_string(priority));
+  tx.commit();
+  return WriteResult::done;
+}
+
 bool JobStore::cancel_requested(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Statement st(*db_, "SELECT cancel_requested FROM jobs WHERE id = ?1");
@@ -192,20 +235,23 @@ std::optional<JobRecord> JobStore::get_locked(std::int64_t id) {
   return read_job(st);
 }
 
-std::vector<JobRecord> JobStore::list(const std::string& status_filter, int limit, int offset) {
+std::vector<JobRecord> JobStore::list(const std::string& status_filter, int limit, std::int64_t offset,
+                                      const std::string& owner_filter) {
   std::lock_guard<std::mutex> lock(mutex_);
   Statement st(*db_, std::string("SELECT ") + kJobColumns +
-                         " FROM jobs WHERE (?1 = '' OR status = ?1) ORDER BY id DESC LIMIT ?2 OFFSET ?3");
-  st.bind(1, status_filter).bind(2, limit < 0 ? -1 : limit).bind(3, std::max(offset, 0));
+                         " FROM jobs WHERE (?1 = '' OR status = ?1) AND (?4 = '' OR owner = ?4)"
+                         " ORDER BY id DESC LIMIT ?2 OFFSET ?3");
+  st.bind(1, status_filter).bind(2, limit < 0 ? -1 : limit).bind(3, std::max<std::int64_t>(offset, 0));
+  st.bind(4, owner_filter);
   std::vector<JobRecord> jobs;
   while (st.step()) jobs.push_back(read_job(st));
   return jobs;
 }
 
-std::size_t JobStore::count(const std::string& status) {
+std::size_t JobStore::count(const std::string& status, const std::string& owner) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement st(*db_, "SELECT count(*) FROM jobs WHERE (?1 = '' OR status = ?1)");
-  st.bind(1, status);
+  Statement st(*db_, "SELECT count(*) FROM jobs WHERE (?1 = '' OR status = ?1) AND (?2 = '' OR owner = ?2)");
+  st.bind(1, status).bind(2, owner);
   return st.step() ? static_cast<std::size_t>(st.column_int64(0)) : 0;
 }
 
@@ -320,6 +366,18 @@ std::size_t JobStore::requeue_running() {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   std::vector<std::int64_t> ids;
+  {
+    // A cancel asked for before the stop is honoured, not forgotten: the job ends cancelled, with what it
+    // had computed.
+    std::vector<std::int64_t> cancelled;
+    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' AND cancel_requested = 1 ORDER BY id");
+    while (st.step()) cancelled.push_back(st.column_int64(0));
+    for (const std::int64_t id : cancelled) {
+      Statement job(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
+      job.bind(1, id).bind(2, now_ms()).run();
+      log_event_locked(id, "cancelled", "cancel requested before the daemon stopped");
+    }
+  }
   {
     Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' ORDER BY id");
     while (st.step()) ids.push_back(st.column_int64(0));

@@ -74,7 +74,8 @@ class JobStore {
 
   /// Atomically takes the queued job with the highest priority (oldest first within a priority), marks it
   /// running with started_ms = now and returns it as it now is; nullopt when the queue is empty.
-  std::optional<JobRecord> claim_next();
+  /// `max_running_per_owner` > 0: skips jobs whose owner already has that many running.
+  std::optional<JobRecord> claim_next(int max_running_per_owner = 0);
 
   /// Progress of a running job (clamped to 0..1; a non-finite or negative eta stores "unknown").
   /// Ignored unless the job is running.
@@ -89,14 +90,20 @@ class JobStore {
   bool mark_cancelled(std::int64_t id);
 
   CancelResult request_cancel(std::int64_t id);
+  enum class WriteResult { done, not_found, wrong_state };
+  /// Deletes a finished job with its curve and snapshots (wrong_state while queued or running).
+  WriteResult remove(std::int64_t id);
+  /// Changes the priority of a queued job (wrong_state otherwise).
+  WriteResult set_priority(std::int64_t id, int priority);
   /// True if a cancel was requested for this running job (false for unknown ids).
   bool cancel_requested(std::int64_t id);
 
   std::optional<JobRecord> get(std::int64_t id);
-  /// Newest first. `status_filter` empty = every status; `limit` < 0 = no limit.
-  std::vector<JobRecord> list(const std::string& status_filter, int limit, int offset);
-  /// Jobs in `status` (empty = all jobs).
-  std::size_t count(const std::string& status);
+  /// Newest first. `status_filter` / `owner_filter` empty = any; `limit` < 0 = no limit.
+  std::vector<JobRecord> list(const std::string& status_filter, int limit, std::int64_t offset,
+                              const std::string& owner_filter = "");
+  /// Jobs in `status` (empty = all jobs), of `owner` when not empty.
+  std::size_t count(const std::string& status, const std::string& owner = "");
 
   std::optional<std::string> curve_csv(std::int64_t id);
   std::optional<std::string> curve_json(std::int64_t id);

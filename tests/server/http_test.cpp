@@ -22,6 +22,7 @@
 #include "api/engine_version.h"
 #include "api/runner.h"
 #include "server/routes.h"
+#include "tests/server/daemon_fixture.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -38,70 +39,6 @@ const char* kCrystal = R"({"experiment": "crystal_compression", "grain": {"edge_
   "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
   "loading": {"confining_pressure": 30e3, "max_strain": 2e-4},
   "output": {"curve_points": 8, "snapshot_strains": [0.0, 2e-4]}})";
-
-class Daemon : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("granulab_http_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-    store_ = std::make_unique<JobStore>((dir_ / "jobs.db").string());
-    pool_ = std::make_unique<WorkerPool>(*store_, 1, 1, 0.05);
-    http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4, {}});
-    port_ = http_->bind("127.0.0.1", 0);
-    ASSERT_GT(port_, 0);
-    serving_ = std::thread([this] { http_->serve(); });
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
-    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  void TearDown() override {
-    http_->stop();
-    serving_.join();
-    pool_->stop();
-    client_.reset();
-    http_.reset();
-    pool_.reset();
-    store_.reset();
-    fs::remove_all(dir_);
-  }
-
-  json post(const std::string& path, const std::string& body, int expect) {
-    auto r = client_->Post(path.c_str(), body, "application/json");
-    EXPECT_TRUE(r) << path;
-    if (!r) return {};
-    EXPECT_EQ(r->status, expect) << path << ": " << r->body;
-    EXPECT_TRUE(r->has_header("X-Request-Id"));
-    return json::parse(r->body);
-  }
-  json get(const std::string& path, int expect = 200) {
-    auto r = client_->Get(path.c_str());
-    EXPECT_TRUE(r) << path;
-    if (!r) return {};
-    EXPECT_EQ(r->status, expect) << path << ": " << r->body;
-    return json::parse(r->body);
-  }
-  // Polls a job until it leaves queued/running (at most `seconds`).
-  json wait(std::int64_t id, double seconds = 60) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    json j;
-    while (std::chrono::steady_clock::now() < until) {
-      j = get("/v1/jobs/" + std::to_string(id));
-      const std::string s = j.value("status", "");
-      if (s != "queued" && s != "running") return j;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ADD_FAILURE() << "job " << id << " did not finish: " << j.dump();
-    return j;
-  }
-
-  fs::path dir_;
-  std::unique_ptr<JobStore> store_;
-  std::unique_ptr<WorkerPool> pool_;
-  std::unique_ptr<HttpServer> http_;
-  std::unique_ptr<httplib::Client> client_;
-  std::thread serving_;
-  int port_ = 0;
-};
 
 TEST_F(Daemon, TwoCubeJobGivesTheEnginesOwnCurve) {
   pool_->start();
@@ -260,13 +197,7 @@ TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
 TEST_F(Daemon, TokensGuardEveryRouteButHealth) {
   const fs::path tokens = dir_ / "tokens";
   std::ofstream(tokens) << "# user token\nalice tok-alice\nbob tok-bob\n";
-  http_->stop();
-  serving_.join();
-  http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4, read_token_file(tokens.string())});
-  port_ = http_->bind("127.0.0.1", 0);
-  serving_ = std::thread([this] { http_->serve(); });
-  client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
-  for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  restart(HttpOptions{64 * 1024, 4, read_token_file(tokens.string())});
 
   get("/v1/health", 200);
   EXPECT_EQ(get("/v1/jobs", 401)["error"]["code"], "unauthorized");

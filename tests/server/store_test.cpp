@@ -181,6 +181,39 @@ TEST(JobStore, ClaimSkipsCancelledJobs) {
   EXPECT_FALSE(store.claim_next());
 }
 
+// --max-running-per-user: a user at the quota waits while other users' jobs start, even older ones.
+TEST(JobStore, ClaimRespectsTheRunningQuotaPerOwner) {
+  JobStore store(":memory:");
+  const auto submit = [&](const std::string& owner, int priority) {
+    return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", owner, "", "0.1.0", owner, priority);
+  };
+  const auto a1 = submit("alice", 9), a2 = submit("alice", 9), b1 = submit("bob", 0);
+  EXPECT_EQ(store.claim_next(1)->id, a1);
+  EXPECT_EQ(store.claim_next(1)->id, b1);  // alice's second waits: she has one running
+  EXPECT_FALSE(store.claim_next(1));
+  EXPECT_EQ(store.claim_next(2)->id, a2);  // a larger quota lets it start
+}
+
+// Delete: finished jobs only, with everything they stored; priority: queued jobs only.
+TEST(JobStore, RemoveAndReprioritise) {
+  JobStore store(":memory:");
+  const auto a = submit_job(store, "a"), b = submit_job(store, "b");
+  EXPECT_EQ(store.remove(a), JobStore::WriteResult::wrong_state);
+  EXPECT_EQ(store.set_priority(b, 7), JobStore::WriteResult::done);
+  EXPECT_EQ(store.get(b)->priority, 7);
+  const auto running = store.claim_next();
+  ASSERT_EQ(running->id, b);
+  EXPECT_EQ(store.set_priority(b, 1), JobStore::WriteResult::wrong_state);
+  store.add_snapshot(b, 0, 0.0, {0x01});
+  store.succeed(b, "{}", "csv", "json");
+  EXPECT_EQ(store.remove(b), JobStore::WriteResult::done);
+  EXPECT_FALSE(store.get(b));
+  EXPECT_TRUE(store.snapshots(b).empty());
+  EXPECT_FALSE(store.curve_csv(b));
+  EXPECT_EQ(store.remove(b), JobStore::WriteResult::not_found);
+  EXPECT_EQ(store.set_priority(12345, 1), JobStore::WriteResult::not_found);
+}
+
 /// Four threads drain 50 jobs: every job is claimed exactly once. `connections` = 1 shares one JobStore
 /// (the mutex serialises); 4 gives each thread its own connection to the same file (SQLite's locks do).
 void claim_concurrently(const std::string& path, int connections) {
@@ -480,6 +513,24 @@ TEST(JobStore, ListNewestFirstWithFilterAndPaging) {
 
 // ----------------------------------------------------------------------------- durability, recovery
 
+TEST_F(StoreFileTest, CancelRequestedBeforeAStopIsHonouredAtRestart) {
+  std::int64_t job = 0;
+  {
+    JobStore store(path_);
+    job = submit_job(store, "asked to stop", 0);
+    ASSERT_EQ(store.claim_next()->id, job);
+    store.add_snapshot(job, 0, 0.0, {0x01});
+    ASSERT_EQ(store.request_cancel(job), JobStore::CancelResult::requested_running);
+    // The daemon dies before the worker saw the request.
+  }
+  JobStore store(path_);
+  EXPECT_EQ(store.requeue_running(), 0u);
+  EXPECT_EQ(store.get(job)->status, "cancelled");
+  EXPECT_GT(store.get(job)->finished_ms, 0);
+  EXPECT_EQ(store.snapshots(job).size(), 1u);  // what it computed is kept, as for any cancel
+  EXPECT_FALSE(store.claim_next());            // and it is not run again
+}
+
 TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
   std::int64_t interrupted = 0;
   std::int64_t waiting = 0;
@@ -494,7 +545,6 @@ TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
     ASSERT_EQ(store.claim_next()->id, interrupted);
     store.set_progress(interrupted, 0.4, 12.0);
     store.add_snapshot(interrupted, 0, 0.0, {0x00, 0xff});
-    store.request_cancel(interrupted);
     // The store object goes away with the job still running: the daemon died.
   }
   JobStore store(path_);

@@ -1,0 +1,100 @@
+// The daemon's connections, so that no client can hold a thread it is not using. One poll thread owns
+// every connection that is idle or still sending its request: it reads what arrives, feeds a
+// RequestReader, and drops connections whose request is not complete within `request_timeout_ms` (slow
+// senders: 408) or that stay idle past `keep_alive_timeout_ms`. Only complete requests reach the handler
+// threads, which answer them and give the connection back. Idle and slow sockets therefore cost a file
+// descriptor and a few bytes, never a handler thread: /v1/health answers while dozens of them are open.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/request_reader.h"
+
+namespace granulab::server {
+
+struct ConnectionOptions {
+  RequestLimits limits;
+  int handler_threads = 8;
+  int max_connections = 512;            ///< more open connections are answered 503 and closed
+  int request_timeout_ms = 10000;       ///< from a request's first byte to its last
+  int keep_alive_timeout_ms = 5000;     ///< idle time allowed between requests on one connection
+  int keep_alive_max_requests = 100;    ///< requests per connection before it is closed
+  int write_timeout_ms = 10000;         ///< a response write that cannot progress for this long fails
+};
+
+/// Sends all of `data` on `fd` (blocking or not), waiting at most `timeout_ms` each time the socket is
+/// full. False when the peer is gone or stalled.
+bool send_all(int fd, const char* data, std::size_t size, int timeout_ms);
+
+class ConnectionLoop {
+ public:
+  /// Answers one complete request read from `fd` (writes the response to fd) and returns whether the
+  /// connection may serve another. `last` says this is the connection's last request.
+  using Handler = std::function<bool(int fd, const std::string& request, bool last)>;
+
+  ConnectionLoop(const ConnectionOptions& options, Handler handler);
+  ~ConnectionLoop();
+  ConnectionLoop(const ConnectionLoop&) = delete;
+  ConnectionLoop& operator=(const ConnectionLoop&) = delete;
+
+  /// Takes ownership of an accepted socket (closes it in the end, whatever happens).
+  void adopt(int fd);
+  /// Closes every connection and joins the threads; requests being answered finish first.
+  void stop();
+  int open_connections() const { return open_; }
+
+ private:
+  struct Connection {
+    RequestReader reader;
+    std::int64_t deadline_ms = 0;
+    int served = 0;         ///< requests answered on this connection
+    bool draining = false;  ///< rejected: reading and discarding until the peer closes or the deadline
+  };
+  struct Handed {  ///< a connection entering the poll thread: new, or back from a handler
+    int fd;
+    int served;
+    std::string leftover;
+  };
+  struct Work {
+    int fd;
+    int served;
+    std::string request, leftover;
+  };
+
+  void poll_loop();
+  void handler_loop();
+  void admit(Handed h, std::int64_t now);
+  void on_readable(int fd, std::int64_t now);
+  void after_feed(int fd, Connection& c, std::int64_t now);
+  void reject(int fd, Connection& c, int status, const std::string& code, const std::string& message,
+              std::int64_t now);
+  void close_connection(int fd);
+  void wake();
+
+  ConnectionOptions options_;
+  Handler handler_;
+  std::atomic<int> open_{0};
+  std::atomic<bool> stopping_{false};
+  int wake_fd_ = -1;
+
+  std::map<int, Connection> connections_;  ///< owned by the poll thread only
+
+  std::mutex mutex_;
+  std::vector<Handed> incoming_;
+  std::deque<Work> work_;
+  std::condition_variable work_ready_;
+
+  std::thread poller_;
+  std::vector<std::thread> handlers_;
+};
+
+}  // namespace granulab::server

@@ -1,0 +1,197 @@
+#include "server/request_reader.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace granulab::server {
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+// The end of the first line in `s` from `from`: the index of its '\n' and the line without "\r\n".
+bool next_line(const std::string& s, std::size_t from, std::size_t& newline, std::string& line) {
+  newline = s.find('\n', from);
+  if (newline == std::string::npos) return false;
+  line = s.substr(from, newline - from);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return true;
+}
+
+}  // namespace
+
+RequestReader::RequestReader(const RequestLimits& limits, std::string already_received)
+    : limits_(limits), buffer_(std::move(already_received)) {
+  advance();
+}
+
+RequestReader::State RequestReader::feed(const char* data, std::size_t size) {
+  if (state_ != State::need_more) return state_;
+  buffer_.append(data, size);
+  return advance();
+}
+
+bool RequestReader::take_continue() {
+  const bool send = continue_pending_;
+  continue_pending_ = false;
+  return send;
+}
+
+std::string RequestReader::take_request() { return std::move(request_); }
+std::string RequestReader::take_leftover() { return std::move(leftover_); }
+
+RequestReader::State RequestReader::reject(int status, const std::string& code, const std::string& message) {
+  reject_status_ = status;
+  reject_code_ = code;
+  reject_message_ = message;
+  continue_pending_ = false;
+  return state_ = State::rejected;
+}
+
+RequestReader::State RequestReader::finish(std::size_t consumed) {
+  const std::string body = chunked_ ? std::move(body_) : buffer_.substr(0, consumed);
+  request_ = head_ + "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+  leftover_ = buffer_.substr(consumed);
+  buffer_.clear();
+  return state_ = State::complete;
+}
+
+RequestReader::State RequestReader::advance() {
+  if (state_ != State::need_more) return state_;
+  if (!head_done_) {
+    // Blank lines before a request line are allowed (RFC 9112 2.2), e.g. after a previous body's CRLF.
+    const auto first = buffer_.find_first_not_of("\r\n");
+    buffer_.erase(0, first == std::string::npos ? buffer_.size() : first);
+    const auto crlf = buffer_.find("\r\n\r\n"), lf = buffer_.find("\n\n");
+    const std::size_t end = std::min(crlf, lf);
+    if (end == std::string::npos || end > limits_.max_head_bytes) {
+      if (buffer_.size() > limits_.max_head_bytes)
+        return reject(431, "head_too_large",
+                      "request line and headers larger than the limit of " + std::to_string(limits_.max_head_bytes) +
+                          " bytes");
+      return state_;
+    }
+    if (parse_head(end, end == crlf ? 4 : 2) != State::need_more) return state_;
+  }
+  if (chunked_) return read_chunks();
+  if (buffer_.size() >= content_length_) return finish(content_length_);
+  return state_;
+}
+
+RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t terminator) {
+  const std::string head = buffer_.substr(0, head_end) + "\n";
+  buffer_.erase(0, head_end + terminator);
+  head_done_ = true;
+  std::size_t pos = 0, newline = 0;
+  std::string line;
+  bool has_length = false, expect_continue = false;
+  for (bool request_line = true; next_line(head, pos, newline, line); pos = newline + 1, request_line = false) {
+    if (request_line) {
+      head_ = line + "\r\n";
+      continue;
+    }
+    const auto colon = line.find(':');
+    if (colon == std::string::npos || colon == 0)
+      return reject(400, "bad_request", "malformed header line (expected 'Name: value')");
+    const std::string name = lower(trim(line.substr(0, colon))), value = trim(line.substr(colon + 1));
+    if (name == "content-length") {
+      const bool digits = !value.empty() && std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+      if (!digits) return reject(400, "bad_request", "Content-Length must be a number of bytes, got '" + value.substr(0, 32) + "'");
+      if (value.size() > 18)  // more than any body could be: no need to parse it
+        return reject(413, "too_large",
+                      "request body larger than the limit of " + std::to_string(limits_.max_body_bytes) + " bytes");
+      const std::size_t length = std::stoull(value);  // cannot throw: 1 to 18 digits
+      if (has_length && length != content_length_)
+        return reject(400, "bad_request", "two different Content-Length headers");
+      has_length = true;
+      content_length_ = length;
+    } else if (name == "transfer-encoding") {
+      if (lower(value) != "chunked")
+        return reject(501, "not_implemented", "only 'Transfer-Encoding: chunked' is supported, got '" + value + "'");
+      chunked_ = true;
+    } else if (name == "expect") {
+      if (lower(value) != "100-continue")
+        return reject(417, "expectation_failed", "only 'Expect: 100-continue' is supported, got '" + value + "'");
+      expect_continue = true;
+    } else {
+      head_ += line + "\r\n";
+    }
+  }
+  if (chunked_ && has_length)
+    return reject(400, "bad_request", "a request may not have both Content-Length and Transfer-Encoding");
+  if (content_length_ > limits_.max_body_bytes)
+    return reject(413, "too_large",
+                  "request body of " + std::to_string(content_length_) + " bytes is larger than the limit of " +
+                      std::to_string(limits_.max_body_bytes) + " bytes");
+  // A POST with neither header has an empty body (content_length_ stays 0).
+  continue_pending_ = expect_continue && (chunked_ || content_length_ > 0) && buffer_.empty();
+  return state_;
+}
+
+RequestReader::State RequestReader::read_chunks() {
+  std::size_t newline = 0;
+  std::string line;
+  while (true) {
+    switch (chunk_) {
+      case Chunk::size_line: {
+        if (!next_line(buffer_, 0, newline, line)) {
+          if (buffer_.size() > 1024) return reject(400, "bad_request", "chunk size line longer than 1024 bytes");
+          return state_;
+        }
+        const std::string hex = trim(line.substr(0, line.find(';')));
+        const bool valid = !hex.empty() && hex.size() <= 15 &&
+                           std::all_of(hex.begin(), hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+        if (!valid) return reject(400, "bad_request", "malformed chunk size '" + hex.substr(0, 32) + "'");
+        chunk_remaining_ = std::stoull(hex, nullptr, 16);  // cannot throw: 1 to 15 hex digits
+        buffer_.erase(0, newline + 1);
+        if (chunk_remaining_ == 0) {
+          chunk_ = Chunk::trailer;
+        } else if (body_.size() + chunk_remaining_ > limits_.max_body_bytes) {
+          return reject(413, "too_large",
+                        "chunked request body larger than the limit of " + std::to_string(limits_.max_body_bytes) +
+                            " bytes");
+        } else {
+          chunk_ = Chunk::data;
+        }
+        break;
+      }
+      case Chunk::data: {
+        const std::size_t take = std::min(chunk_remaining_, buffer_.size());
+        body_.append(buffer_, 0, take);
+        buffer_.erase(0, take);
+        chunk_remaining_ -= take;
+        if (chunk_remaining_ > 0) return state_;
+        chunk_ = Chunk::data_end;
+        break;
+      }
+      case Chunk::data_end:
+        if (!next_line(buffer_, 0, newline, line)) {
+          if (buffer_.size() > 2) return reject(400, "bad_request", "chunk data longer than its size");
+          return state_;
+        }
+        if (!line.empty()) return reject(400, "bad_request", "chunk data longer than its size");
+        buffer_.erase(0, newline + 1);
+        chunk_ = Chunk::size_line;
+        break;
+      case Chunk::trailer:
+        if (!next_line(buffer_, 0, newline, line)) {
+          if (buffer_.size() > limits_.max_head_bytes) return reject(400, "bad_request", "chunked trailer too long");
+          return state_;
+        }
+        buffer_.erase(0, newline + 1);
+        if (line.empty()) return finish(0);  // trailer fields are dropped
+        break;
+    }
+  }
+}
+
+}  // namespace granulab::server
