@@ -5,6 +5,7 @@
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -13,6 +14,7 @@
 
 #include "api/int_option.h"
 #include "api/passive_openmp.h"
+#include "server/instance_lock.h"
 #include "server/routes.h"
 #include "server/store/job_store.h"
 #include "server/worker_pool.h"
@@ -88,6 +90,8 @@ int main(int argc, char** argv) {
 
     if (db != ":memory:" && std::filesystem::path(db).has_parent_path())
       std::filesystem::create_directories(std::filesystem::path(db).parent_path());
+    std::optional<InstanceLock> lock;
+    if (db != ":memory:") lock.emplace(db);
     JobStore store(db);
     const std::size_t requeued = store.requeue_running();
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
@@ -100,7 +104,7 @@ int main(int argc, char** argv) {
     }
     HttpServer http(store, pool, options);
     const int bound = http.bind(host, port);
-    if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port));
+    if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + " (is another server using the port?)");
     pool.start();
     std::thread signal_waiter([&] {
       int sig = 0;

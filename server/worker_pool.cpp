@@ -35,11 +35,18 @@ void WorkerPool::work() {
   // The engine's thread count is per calling thread in OpenMP: set once for this worker.
   omp_set_num_threads(threads_per_job_);
   while (!stopping_) {
-    std::optional<JobRecord> job = store_.claim_next(max_running_per_owner_);
+    std::optional<JobRecord> job;
+    bool store_failed = false;
+    try {
+      job = store_.claim_next(max_running_per_owner_);
+    } catch (const std::exception& e) {  // e.g. disk full or the file gone: retry, never crash
+      spdlog::error("cannot take the next job from the store: {}", e.what());
+      store_failed = true;
+    }
     if (!job) {
       std::unique_lock<std::mutex> lock(mutex_);
       // Wake on notify(), or poll now and then in case another process queued work.
-      wake_.wait_for(lock, std::chrono::seconds(1));
+      wake_.wait_for(lock, std::chrono::seconds(store_failed ? 5 : 1));
       continue;
     }
     ++running_;
@@ -62,12 +69,23 @@ void WorkerPool::run_job(const JobRecord& job) {
     spdlog::warn("job {} interrupted by shutdown; it will be re-queued at the next start", job.id);
   } catch (const Cancelled&) {
     keep_partial_results(sink, job.id);
-    store_.mark_cancelled(job.id);
+    record_end(job.id, [&] { store_.mark_cancelled(job.id); });
     spdlog::info("job {} cancelled", job.id);
   } catch (const std::exception& e) {
     keep_partial_results(sink, job.id);
-    store_.fail(job.id, e.what());
-    spdlog::error("job {} failed: {}", job.id, e.what());
+    const std::string reason = e.what();
+    record_end(job.id, [&] { store_.fail(job.id, reason); });
+    spdlog::error("job {} failed: {}", job.id, reason);
+  }
+}
+
+void WorkerPool::record_end(std::int64_t job, const std::function<void()>& write) {
+  // The store itself may be failing (disk full, file removed): the worker logs it and goes on; the job
+  // stays `running` in the file and is re-queued at the next start, so nothing is silently lost.
+  try {
+    write();
+  } catch (const std::exception& e) {
+    spdlog::error("job {}: could not record how it ended: {}", job, e.what());
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -37,6 +38,8 @@ class WorkerPool {
  private:
   void work();
   void run_job(const JobRecord& job);
+  /// Writes a job's end to the store; a failing store is logged, never thrown out of the worker.
+  void record_end(std::int64_t job, const std::function<void()>& write);
   /// A cancelled or failed run keeps the rows and snapshots it made since the last batch.
   void keep_partial_results(StoreSink& sink, std::int64_t job);
 

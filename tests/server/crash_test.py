@@ -5,8 +5,10 @@ none is lost or duplicated, and the database passes PRAGMA integrity_check (issu
 Standard library only. The daemon binary comes from $GRANULABD (set by CTest) or build/granulabd.
 """
 import os
+import random
 import signal
 import socket
+import json
 import sqlite3
 import subprocess
 import sys
@@ -94,6 +96,64 @@ class CrashTest(unittest.TestCase):
         self.assertEqual(status, "queued")
         self.proc = self.start()
         self.assertEqual(self.client.wait(job_id, timeout=120)["status"], "succeeded")
+
+
+    def test_thirty_kills_at_random_moments(self):
+        """30 cycles of kill -9 at a random moment with jobs queued and running, restarting on the same
+        file each time: every job finishes exactly once, the file is intact, and the curves equal a
+        direct run of the same spec (granulab run)."""
+        rng = random.Random(20261129)
+        ids = []
+        kills_while_running = 0
+        for cycle in range(30):
+            self.proc = self.start()
+            if cycle < 12:
+                ids.append(self.client.submit(SPEC))
+            time.sleep(rng.uniform(0.0, 0.8))
+            if any(j["status"] == "running" for j in self.client.list(limit=100)):
+                kills_while_running += 1
+            self.proc.send_signal(signal.SIGKILL)
+            self.proc.wait(timeout=10)
+        self.proc = self.start()
+        for job_id in ids:
+            self.assertEqual(self.client.wait(job_id, timeout=300)["status"], "succeeded")
+        self.assertGreaterEqual(kills_while_running, 10)
+        self.proc.send_signal(signal.SIGTERM)
+        self.assertEqual(self.proc.wait(timeout=30), 0)
+        with sqlite3.connect(self.db) as db:
+            self.assertEqual(db.execute("PRAGMA integrity_check").fetchone()[0], "ok")
+            self.assertEqual(sorted(i for (i,) in db.execute("SELECT id FROM jobs")), sorted(ids))
+            for job_id in ids:  # finished exactly once
+                (n,) = db.execute("SELECT count(*) FROM events WHERE job_id = ? AND kind = 'succeeded'",
+                                  (job_id,)).fetchone()
+                self.assertEqual(n, 1, f"job {job_id}")
+        self.proc = self.start()
+        direct_dir = os.path.join(self.dir, "direct")
+        spec_path = os.path.join(self.dir, "spec.json")
+        with open(spec_path, "w") as f:
+            json.dump(SPEC, f)
+        cli = os.path.join(os.path.dirname(DAEMON), "granulab")
+        subprocess.run([cli, "run", spec_path, "--out", direct_dir, "--threads", "1", "--quiet"], check=True,
+                       stdout=subprocess.DEVNULL)
+        with open(os.path.join(direct_dir, "curve.csv")) as f:
+            direct = f.read()
+        for job_id in ids:
+            self.assertEqual(self.client.curve_csv(job_id), direct, f"job {job_id}")
+        print(f"crash loop: 30 kills ({kills_while_running} with a job running), {len(ids)} jobs, "
+              "each succeeded once, integrity ok, curves equal a direct run", file=sys.stderr)
+
+    def test_one_daemon_per_database_and_per_port(self):
+        self.proc = self.start()
+        second = subprocess.run([DAEMON, "--port", str(free_port()), "--db", self.db], capture_output=True, text=True,
+                                timeout=30)
+        self.assertNotEqual(second.returncode, 0)
+        self.assertIn("one daemon per database", second.stderr)
+        other_db = os.path.join(self.dir, "other.db")
+        third = subprocess.run([DAEMON, "--port", str(self.port), "--db", other_db], capture_output=True, text=True,
+                               timeout=30)
+        self.assertNotEqual(third.returncode, 0)
+        self.assertIn("cannot listen", third.stderr)
+        self.assertEqual(self.client.health()["status"], "ok")
 
 
 if __name__ == "__main__":

@@ -319,6 +319,33 @@ TEST_F(Daemon, LiveCurveGrowsAndACancelledJobKeepsItsRows) {
   EXPECT_EQ(get(second + "/curve")["strain"].size(), rows_of(kept->body));
 }
 
+// A two-cube job with one curve point is one long stretch of steps (about 4e8 here): a cancel and a
+// shutdown still reach it within a second, and a cancel survives a restart instead of being rerun.
+TEST_F(Daemon, CancelAndStopReachAOnePointJobWithinASecond) {
+  const char* one_point = R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
+    "loading": {"rate_number": 1e-8}, "output": {"curve_points": 1}})";
+  pool_->start();
+  const auto running = [&](std::int64_t id) {
+    for (int k = 0; k < 500 && get("/v1/jobs/" + std::to_string(id))["status"] != "running"; ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  };
+  const std::int64_t cancelled = post("/v1/jobs", one_point, 201)["id"];
+  running(cancelled);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  auto t0 = std::chrono::steady_clock::now();
+  post("/v1/jobs/" + std::to_string(cancelled) + "/cancel", "", 202);
+  EXPECT_EQ(wait(cancelled, 5)["status"], "cancelled");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+
+  const std::int64_t stopped = post("/v1/jobs", one_point, 201)["id"];
+  running(stopped);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  t0 = std::chrono::steady_clock::now();
+  pool_->stop();  // what SIGTERM does
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+  EXPECT_EQ(get("/v1/jobs/" + std::to_string(stopped))["status"], "running");  // granulabd re-queues it
+}
+
 // The registry, as clients see it.
 TEST_F(Daemon, ExperimentsAreDescribedFromTheRegistry) {
   const json e = get("/v1/experiments");
