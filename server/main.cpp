@@ -27,14 +27,18 @@ const char* kUsage =
     "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
     "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
+    "                 [--max-memory MB] [--max-sphere-steps X]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
     "            --keep-alive-timeout 5 --max-connections 512\n"
+    "            --max-memory (half the physical memory, in MB) --max-sphere-steps 1e13\n"
+    "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
     "  --token-file: lines '<user> <token> [admin]'; then every route but /v1/health needs\n"
     "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it\n"
     "  --private: reading a job is also for its owner and admins only (default: the lab reads everything)\n";
 
 using granulab::api::parse_int_option;
+using granulab::api::parse_number_option;
 
 }  // namespace
 
@@ -70,6 +74,8 @@ int main(int argc, char** argv) {
       else if (a == "--request-timeout") options.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
       else if (a == "--keep-alive-timeout") options.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
       else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
+      else if (a == "--max-memory") options.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
+      else if (a == "--max-sphere-steps") options.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
       else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
     }
     // Workers x engine threads never exceed the cores.

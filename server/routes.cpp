@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -220,8 +221,45 @@ std::optional<JobRecord> HttpServer::job_for(const httplib::Request& req, httpli
   return std::nullopt;
 }
 
+namespace {
+
+std::string gigabytes(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f GB", bytes / 1e9);
+  return text;
+}
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+}  // namespace
+
+bool HttpServer::within_budget(const api::Spec& spec, httplib::Response& res) const {
+  const Workload w = spec.experiment->workload();
+  const std::string size = number(w.spheres) + " spheres in " + number(w.grains) + " grains";
+  if (w.peak_bytes() > options_.max_memory_bytes) {
+    error(res, 400, "over_budget",
+          "this job would need about " + gigabytes(w.peak_bytes()) + " of memory (" + size +
+              "); the server's limit is " + gigabytes(options_.max_memory_bytes) + " (max_memory)");
+    return false;
+  }
+  if (w.sphere_steps() > options_.max_sphere_steps) {
+    error(res, 400, "over_budget",
+          "this job would take about " + number(w.sphere_steps()) + " sphere-steps (" + size + " x " +
+              number(w.steps) + " steps); the server's limit is " + number(options_.max_sphere_steps) +
+              " (max_sphere_steps)");
+    return false;
+  }
+  return true;
+}
+
 HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
     : store_(store), pool_(pool), options_(options), http_(std::make_unique<LoopServer>()) {
+  if (options_.max_memory_bytes <= 0)
+    options_.max_memory_bytes = 0.5 * double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
   ConnectionOptions connection;
   connection.limits.max_body_bytes = options_.max_body_bytes;
   connection.handler_threads = options_.handler_threads;
@@ -334,6 +372,7 @@ void HttpServer::routes() {
     } catch (const api::SpecError& e) {
       return error(res, 400, e.code, e.what(), e.field);
     }
+    if (!within_budget(spec, res)) return;
     const std::string hash = api::spec_hash(spec.normalized);
     const std::string experiment = spec.normalized["experiment"].get<std::string>();
     if (req.has_param("reuse") && req.get_param_value("reuse") == "true") {

@@ -18,6 +18,10 @@ struct Request;
 struct Response;
 }  // namespace httplib
 
+namespace granulab::api {
+struct Spec;
+}  // namespace granulab::api
+
 namespace granulab::server {
 
 class LoopServer;  // cpp-httplib's server fed by the ConnectionLoop (routes.cpp)
@@ -37,6 +41,9 @@ struct HttpOptions {
   std::map<std::string, User> tokens;
   bool private_reads = false;            ///< reading a job is for its owner and admins only
   int max_queued_per_user = 1000;        ///< more queued jobs of one user get 429
+  /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
+  double max_memory_bytes = 0;           ///< peak memory; 0 = half the machine's physical memory
+  double max_sphere_steps = 1e13;        ///< spheres x time steps (about 9 h at 3e8 per second)
   /// Timeouts and connection limits (docs/api.md, "Connections").
   int request_timeout_ms = 10000;
   int keep_alive_timeout_ms = 5000;
@@ -61,6 +68,8 @@ class HttpServer {
 
  private:
   void routes();
+  /// False (and a 400 naming the limit and the estimate) when the job is over the per-job budget.
+  bool within_budget(const api::Spec& spec, httplib::Response& res) const;
   /// The holder of the request's bearer token; with tokens off, an anonymous admin.
   std::optional<User> caller(const httplib::Request& req) const;
   /// The job of the path's id if `who` may read it (or, `write`, change it); otherwise answers 404/403.

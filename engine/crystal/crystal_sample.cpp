@@ -29,6 +29,16 @@ CrystalGeometry lattice_geometry(const CrystalSampleParams& p) {
 
 }  // namespace
 
+Workload confinement_workload(const CrystalSampleParams& p) {
+  Workload w;
+  w.grains = double(p.grains_x) * p.rows_z * p.layers_y;
+  w.spheres = w.grains * double(sphere_count(p.grain));
+  w.steps = double(p.max_confinement_steps);
+  return w;
+}
+
+double crystal_time_step(const CrystalSampleParams& p) { return crystal_settings(p, GrainTemplate(p.grain)).time_step; }
+
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
   return std::sqrt(2.0) * confining_pressure / youngs_modulus;
 }

@@ -10,6 +10,7 @@
 
 #include "engine/boundary/membrane.h"
 #include "engine/crystal/crystal_lattice.h"
+#include "engine/experiments/workload.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
 
@@ -39,6 +40,11 @@ struct CrystalSampleParams {
 /// eps0 = sqrt2 p0 / E (-): the hydrostatic pre-strain at which the face overlaps of the FCC packing
 /// carry p0 (the Love-Weber stress of the packing is E eps0 / sqrt2).
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
+
+/// The sample's size and the confinement's step cap (knock-outs and an early equilibrium only lower them).
+Workload confinement_workload(const CrystalSampleParams& p);
+/// dt (s) of the sample's world.
+double crystal_time_step(const CrystalSampleParams& p);
 
 /// The default neighbour skin / d of a dense crystal (docs/model.md, "Time integration"). Only the
 /// touching, in-line sphere pairs should be candidates: the next sphere across a face sits at

@@ -11,6 +11,7 @@
 #include "engine/experiments/parameters.h"
 #include "engine/experiments/result_sink.h"
 #include "engine/experiments/summary_writer.h"
+#include "engine/experiments/workload.h"
 
 namespace granulab {
 
@@ -29,6 +30,8 @@ class Experiment {
   virtual void parameters(ParameterVisitor& v) = 0;
   /// The curve's columns; curve rows hold one value per column, in this order.
   virtual const std::vector<CurveColumn>& curve_columns() const = 0;
+  /// The run's size and length from the parameters as they are, without building anything (cheap).
+  virtual Workload workload() const = 0;
   /// Runs with the parameters as they are. Throws Cancelled when the sink asks to stop,
   /// std::invalid_argument for parameters the physics cannot run, std::runtime_error for a failed run.
   virtual std::unique_ptr<ExperimentResult> run(ResultSink& sink) const = 0;

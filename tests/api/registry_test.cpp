@@ -83,6 +83,14 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
     doc["experiment"] = t.name;
     const RunOutput out = run_spec(parse_spec(doc));
     EXPECT_EQ(out.summary.at("experiment"), t.name);
+    // The admission estimate (server budgets) against the run: the same size, no fewer steps than run.
+    const Workload w = parse_spec(doc).experiment->workload();
+    EXPECT_EQ(out.summary.at("spheres").get<double>(), w.spheres);
+    EXPECT_LE(out.summary.at("steps").get<double>(), w.steps);
+    if (out.summary.contains("compression_steps"))  // the part not bounded by the confinement's cap
+      EXPECT_LE(out.summary.at("compression_steps").get<double>(), w.steps - 200000);
+    std::printf("%s: %g spheres, %g steps run, %g estimated\n", t.name, w.spheres,
+                out.summary.at("steps").get<double>(), w.steps);
     EXPECT_GT(out.summary.at("steps").get<double>(), 0);
     EXPECT_TRUE(out.summary.at("warnings").is_array());
     EXPECT_EQ(out.summary.at("units").at("time_step"), "s");

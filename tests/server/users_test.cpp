@@ -159,6 +159,30 @@ TEST_F(Users, QueuedQuotaIsPerUser) {
   post("/v1/jobs", kSpec, 201);
 }
 
+// --max-memory and --max-sphere-steps: a job over either is refused at submission, with the estimate
+// and the limit in the message; one under both is accepted.
+TEST_F(Users, BudgetIsCheckedBeforeAJobIsAccepted) {
+  HttpOptions options;
+  options.max_memory_bytes = 100e6;
+  options.max_sphere_steps = 1e9;
+  restart(options);
+  // 40 x 100 x 10 grains of 50 spheres: 2e6 spheres, about 0.3 GB by the measured model.
+  const char* big = R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+    "crystal": {"grains_x": 40, "rows_z": 100, "layers_y": 10}})";
+  json refused = post("/v1/jobs", big, 400);
+  EXPECT_EQ(refused["error"]["code"], "over_budget");
+  std::string message = refused["error"]["message"];
+  EXPECT_NE(message.find("max_memory"), std::string::npos) << message;
+  EXPECT_NE(message.find("0.10 GB"), std::string::npos) << message;  // the limit
+  EXPECT_NE(message.find("2e+06 spheres"), std::string::npos) << message;  // the estimate's basis
+  // Small, but 4e8 steps of 52 spheres (rate_number 1e-8) = 2e10 sphere-steps > 1e9.
+  refused = post("/v1/jobs", R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
+    "loading": {"rate_number": 1e-8}})", 400);
+  message = refused["error"]["message"];
+  EXPECT_NE(message.find("max_sphere_steps"), std::string::npos) << message;
+  post("/v1/jobs", kSpec, 201);
+}
+
 std::filesystem::path write(const std::filesystem::path& p, const std::string& text, mode_t mode) {
   std::ofstream(p) << text;
   ::chmod(p.c_str(), mode);

@@ -1,5 +1,6 @@
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 
+#include <cmath>
 #include <string>
 
 #include "engine/crystal/sample_parameters.h"
@@ -68,6 +69,17 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   p.snapshot_strains = reachable;
   v.numbers("snapshot_strains", p.snapshot_strains, {0, p.max_strain}, 1000, "-",
             "axial strains at which snapshots are taken (at most loading.max_strain)");
+}
+
+Workload CrystalCompressionExperiment::workload() const {
+  Workload w = confinement_workload(params);
+  // Compression: the platen approaches at R c after a ramp of 10 L / c (run()), over max_strain of a
+  // sample no longer than rows_z grain sizes.
+  const double wave_speed = std::sqrt(params.material.youngs_modulus / (params.material.density * params.mass_scaling));
+  const double length = params.rows_z * params.grain.size;
+  const double seconds = params.max_strain * length / (params.rate_number * wave_speed) + 5 * length / wave_speed;
+  w.steps += seconds / crystal_time_step(params);
+  return w;
 }
 
 std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& sink) const {

@@ -44,6 +44,8 @@ std::vector<double> ConfinementRow::values() const {
 
 void CrystalConfinementExperiment::parameters(ParameterVisitor& v) { visit_crystal_sample(v, params); }
 
+Workload CrystalConfinementExperiment::workload() const { return confinement_workload(params); }
+
 std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink) const {
   const auto start = std::chrono::steady_clock::now();
   auto out = std::make_unique<ConfinementSummary>();

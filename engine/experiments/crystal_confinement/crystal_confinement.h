@@ -30,6 +30,7 @@ class CrystalConfinementExperiment : public Experiment {
 
   void parameters(ParameterVisitor& v) override;
   const std::vector<CurveColumn>& curve_columns() const override { return ConfinementRow::columns(); }
+  Workload workload() const override;
   std::unique_ptr<ExperimentResult> run(ResultSink& sink) const override;
 };
 

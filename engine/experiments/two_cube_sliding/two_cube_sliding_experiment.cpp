@@ -1,5 +1,7 @@
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 
+#include <cmath>
+
 #include "engine/model/model_parameters.h"
 
 namespace granulab {
@@ -33,6 +35,18 @@ void TwoCubeSlidingExperiment::parameters(ParameterVisitor& v) {
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000, "curve rows after u = 0");
   visit_integration(v, p.time_step_factor, p.skin_factor);
+}
+
+Workload TwoCubeSlidingExperiment::workload() const {
+  Workload w;
+  w.grains = 2;
+  w.spheres = 2.0 * double(sphere_count(params.grain));
+  // The top cube slides max_slide * l at R sqrt(E / rho), in steps of dt (as in TwoCubeSliding::run).
+  const GrainTemplate grain(params.grain);
+  const double dt = params.time_step_factor * contact_time_scale(grain, params.material.youngs_modulus, params.material.density);
+  const double wave_speed = std::sqrt(params.material.youngs_modulus / params.material.density);
+  w.steps = params.max_slide * params.grain.size / (params.rate_number * wave_speed * dt) + params.curve_points;
+  return w;
 }
 
 std::unique_ptr<ExperimentResult> TwoCubeSlidingExperiment::run(ResultSink& sink) const {
