@@ -73,8 +73,7 @@ class Client:
         if self.token:
             headers["Authorization"] = "Bearer " + self.token
         if method == "POST":
-            # Always send a body (possibly empty) so Content-Length is set: the server rejects
-            # POSTs without one.
+            # Always a body (possibly empty), so Content-Length is set for any server or proxy.
             data = body if isinstance(body, bytes) else (body or "").encode("utf-8")
             headers["Content-Type"] = "application/json"
         req = urllib.request.Request(url, data=data, method=method, headers=headers)
@@ -164,9 +163,17 @@ class Client:
     def cancel(self, job_id):
         return self._request("POST", f"/v1/jobs/{int(job_id)}/cancel")
 
-    def list(self, status=None, limit=50, offset=0):
-        return self._request("GET", "/v1/jobs", {"status": status, "limit": limit, "offset": offset}) \
-            .get("jobs", [])
+    def delete(self, job_id):
+        """Deletes a finished job with its curve and snapshots (owner or admin)."""
+        return self._request("DELETE", f"/v1/jobs/{int(job_id)}")
+
+    def set_priority(self, job_id, priority):
+        """A queued job's new priority, -100..100, higher first (owner or admin)."""
+        return self._request("POST", f"/v1/jobs/{int(job_id)}/priority", {"value": int(priority)})
+
+    def list(self, status=None, limit=50, offset=0, owner=None):
+        return self._request("GET", "/v1/jobs", {"status": status, "limit": limit, "offset": offset,
+                                                 "owner": owner}).get("jobs", [])
 
     def health(self):
         return self._request("GET", "/v1/health")
@@ -190,8 +197,11 @@ def main(argv=None):
     s.add_argument("spec")
     s.add_argument("--reuse", action="store_true", help="reuse a stored result for an identical spec")
     s.add_argument("--priority", type=int)
-    for name in ("status", "wait", "cancel", "snapshots"):
+    for name in ("status", "wait", "cancel", "delete", "snapshots"):
         sub.add_parser(name).add_argument("id", type=int)
+    pr = sub.add_parser("priority", help="change a queued job's priority")
+    pr.add_argument("id", type=int)
+    pr.add_argument("value", type=int)
     c = sub.add_parser("curve")
     c.add_argument("id", type=int)
     c.add_argument("--csv", action="store_true")
@@ -200,6 +210,7 @@ def main(argv=None):
     ls.add_argument("--status")
     ls.add_argument("--limit", type=int, default=50)
     ls.add_argument("--offset", type=int, default=0)
+    ls.add_argument("--owner")
     sub.add_parser("health")
     sub.add_parser("experiments", help="every experiment: spec fields with defaults, ranges, units; curve columns")
     a = p.parse_args(argv)
@@ -228,10 +239,14 @@ def main(argv=None):
                 _print_json(client.curve(a.id))
         elif a.cmd == "cancel":
             _print_json(client.cancel(a.id))
+        elif a.cmd == "delete":
+            _print_json(client.delete(a.id))
+        elif a.cmd == "priority":
+            _print_json(client.set_priority(a.id, a.value))
         elif a.cmd == "snapshots":
             _print_json(client.snapshots(a.id))
         elif a.cmd == "list":
-            _print_json(client.list(status=a.status, limit=a.limit, offset=a.offset))
+            _print_json(client.list(status=a.status, limit=a.limit, offset=a.offset, owner=a.owner))
         elif a.cmd == "health":
             _print_json(client.health())
         elif a.cmd == "experiments":

@@ -123,6 +123,26 @@ class PythonClientTest(unittest.TestCase):
         again = self.client.submit(TINY, reuse=True)
         self.assertEqual(again, job)
 
+    def test_priority_delete_and_owner_filter(self):
+        # A long job holds the one worker, so the second stays queued while its priority changes.
+        slow = self.client.submit(dict(TINY, loading={"rate_number": 1e-8}, output={"curve_points": 1}))
+        queued = self.client.submit(TINY)
+        self.assertEqual(self.client.set_priority(queued, 7)["priority"], 7)
+        self.assertEqual(self.client.status(queued)["priority"], 7)
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.delete(queued)  # still queued: cancel first
+        self.assertEqual(ctx.exception.status, 409)
+        self.client.cancel(queued)
+        self.assertTrue(self.client.delete(queued)["deleted"])
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.status(queued)
+        self.assertEqual(ctx.exception.status, 404)
+        self.assertEqual([j["id"] for j in self.client.list(owner="nobody")], [])
+        self.client.cancel(slow)
+        with self.assertRaises(GranulabError) as ctx:  # wait() raises for a job that did not succeed
+            self.client.wait(slow, timeout=10)
+        self.assertEqual(ctx.exception.code, "cancelled")
+
     def test_submit_from_file(self):
         path = os.path.join(self.tmp, "spec.json")
         with open(path, "w") as f:
