@@ -33,7 +33,8 @@ namespace {
 const char* kUsage =
     "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
     "       granulab submit SPEC.json [--reuse] [--priority N] | status ID | wait ID | results ID --out DIR |\n"
-    "                cancel ID | list [--status S] [--limit N]      (server: --server URL or GRANULAB_SERVER)\n"
+    "                cancel ID | priority ID --priority N | delete ID | list [--status S] [--owner U] [--limit N]\n"
+    "                (server: --server URL or GRANULAB_SERVER; token: GRANULAB_TOKEN)\n"
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
@@ -157,7 +158,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "submit" || command == "status" || command == "wait" || command == "results" ||
-        command == "cancel" || command == "list")
+        command == "cancel" || command == "list" || command == "delete" || command == "priority")
       return cli::run_remote(argc, argv);
     std::cerr << "unknown command '" << command << "'\n" << kUsage;
     return 2;

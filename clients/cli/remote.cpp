@@ -27,8 +27,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct Args {
-  std::string command, server, target, out, status;
-  bool reuse = false;
+  std::string command, server, target, out, status, owner;
+  bool reuse = false, priority_given = false;
   int priority = 0, limit = 20;
 };
 
@@ -47,7 +47,8 @@ Args parse(int argc, char** argv) {
     else if (s == "--out") a.out = value();
     else if (s == "--status") a.status = value();
     else if (s == "--reuse") a.reuse = true;
-    else if (s == "--priority") a.priority = api::parse_int_option(s, value(), -100, 100);
+    else if (s == "--priority") a.priority = api::parse_int_option(s, value(), -100, 100), a.priority_given = true;
+    else if (s == "--owner") a.owner = value();
     else if (s == "--limit") a.limit = api::parse_int_option(s, value(), 1, 1000);
     else if (a.target.empty() && s.rfind("--", 0) != 0) a.target = s;
     else throw std::invalid_argument("unexpected argument '" + s + "'");
@@ -58,7 +59,9 @@ Args parse(int argc, char** argv) {
 // One request; a transport failure or an error status becomes an exception with the server's message.
 std::string call(httplib::Client& http, const std::string& server, const std::string& method, const std::string& path,
                  const std::string& body = "") {
-  const httplib::Result r = method == "POST" ? http.Post(path.c_str(), body, "application/json") : http.Get(path.c_str());
+  const httplib::Result r = method == "POST"     ? http.Post(path.c_str(), body, "application/json")
+                           : method == "DELETE" ? http.Delete(path.c_str())
+                                                : http.Get(path.c_str());
   if (!r) throw std::runtime_error("cannot reach the server at " + server + " (" + httplib::to_string(r.error()) + ")");
   if (r->status >= 400) {
     std::string message = r->body;
@@ -110,9 +113,19 @@ int run_remote(int argc, char** argv) {
     std::cout << call(http, a.server, "POST", "/v1/jobs/" + need_id(a) + "/cancel");
     return 0;
   }
+  if (a.command == "delete") {
+    std::cout << call(http, a.server, "DELETE", "/v1/jobs/" + need_id(a));
+    return 0;
+  }
+  if (a.command == "priority") {
+    if (!a.priority_given) throw std::invalid_argument("'priority' needs --priority N");
+    std::cout << call(http, a.server, "POST", "/v1/jobs/" + need_id(a) + "/priority?value=" + std::to_string(a.priority));
+    return 0;
+  }
   if (a.command == "list") {
     std::string path = "/v1/jobs?limit=" + std::to_string(a.limit);
-    if (!a.status.empty()) path += "&status=" + a.status;
+    if (!a.status.empty()) path += "&status=" + httplib::detail::encode_query_param(a.status);
+    if (!a.owner.empty()) path += "&owner=" + httplib::detail::encode_query_param(a.owner);
     const json list = json::parse(call(http, a.server, "GET", path));  // named: a temporary would dangle
     for (const json& j : list["jobs"])
       std::printf("%6lld  %-10s %5.1f %%  %-20s %s\n", j["id"].get<long long>(), j["status"].get<std::string>().c_str(),

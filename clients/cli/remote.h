@@ -1,5 +1,5 @@
 // The CLI's commands that talk to a granulabd server over HTTP: submit, status, wait, results,
-// cancel, list. The server comes from --server URL or GRANULAB_SERVER (default http://127.0.0.1:8080).
+// cancel, priority, delete, list. The server comes from --server URL or GRANULAB_SERVER (default http://127.0.0.1:8080).
 #pragma once
 
 namespace granulab::cli {

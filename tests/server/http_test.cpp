@@ -247,6 +247,16 @@ TEST_F(Daemon, CliRemoteCommands) {
   std::tie(code, out) = shell(cli + " status 4242" + server);
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("404"), std::string::npos) << out;
+  std::tie(code, out) = shell(cli + " list --owner nobody" + server);
+  EXPECT_EQ(code, 0);
+  EXPECT_EQ(out, "");
+  std::tie(code, out) = shell(cli + " priority " + std::to_string(id) + " --priority 3" + server);
+  EXPECT_EQ(code, 1);  // finished: no longer queued
+  EXPECT_NE(out.find("409"), std::string::npos) << out;
+  std::tie(code, out) = shell(cli + " delete " + std::to_string(id) + server);
+  EXPECT_EQ(code, 0) << out;
+  std::tie(code, out) = shell(cli + " status " + std::to_string(id) + server);
+  EXPECT_NE(out.find("404"), std::string::npos) << out;
 }
 
 }  // namespace
