@@ -18,4 +18,7 @@ std::string curve_csv_line(const std::vector<CurveColumn>& columns, const std::v
 /// CSV text (header row first, numeric cells) as {"columns": [names], "<name>": [values], ...}.
 nlohmann::json curve_csv_to_json(const std::string& csv);
 
+/// The length in bytes of the header line and the first `rows` rows of a curve CSV (all of it if shorter).
+std::size_t curve_csv_prefix(const std::string& csv, std::size_t rows);
+
 }  // namespace granulab::api

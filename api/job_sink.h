@@ -13,10 +13,24 @@
 
 namespace granulab::api {
 
+/// A checkpoint as a job keeps it: the engine's state (ResultSink::checkpoint) and how many curve rows
+/// and snapshots the job's results held when it was taken.
+struct Resume {
+  std::string state;
+  std::size_t rows = 0, snapshots = 0;
+};
+
+/// A Resume as one byte string (a file, a blob): the two counts, then the state, which carries its own
+/// checksum. unpack_resume throws CheckpointError on anything else.
+std::string pack_resume(const Resume& resume);
+Resume unpack_resume(const std::string& bytes);
+
 class JobSink : public ResultSink {
  public:
-  /// Before the run: the experiment's curve columns (what its rows will hold).
-  virtual void begin(const std::vector<CurveColumn>& columns) { (void)columns; }
+  /// Before the run: the experiment's curve columns (what its rows will hold). With `resume`, the run
+  /// continues from that checkpoint: the sink keeps the first resume->rows rows and resume->snapshots
+  /// snapshots it already holds and drops any later ones (made after the checkpoint, made again now).
+  virtual void begin(const std::vector<CurveColumn>& columns, const Resume* resume) { (void)columns, (void)resume; }
   /// After a successful run: summary.json.
   virtual void summary(const nlohmann::json& summary) = 0;
 };
@@ -25,7 +39,7 @@ class JobSink : public ResultSink {
 class MemorySink : public JobSink {
  public:
   explicit MemorySink(ProgressFn progress = nullptr) : progress_(std::move(progress)) {}
-  void begin(const std::vector<CurveColumn>& columns) override;
+  void begin(const std::vector<CurveColumn>& columns, const Resume* resume) override;
   void curve_row(const std::vector<double>& values) override;
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
   bool progress(double fraction) override { return !progress_ || progress_(fraction); }

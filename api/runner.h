@@ -17,7 +17,9 @@ namespace granulab::api {
 /// Runs the spec with the calling thread's OpenMP thread count. Throws Cancelled when the sink asks to
 /// stop, std::invalid_argument / std::runtime_error when the run cannot be made or fails. Returns the
 /// summary it gave the sink.
-nlohmann::json run(const Spec& spec, JobSink& sink);
+/// With `resume`, continues a checkpointed run of the same spec (the sink trims its results to the
+/// checkpoint's counts first); the answer is bit for bit that of an uninterrupted run.
+nlohmann::json run(const Spec& spec, JobSink& sink, const Resume* resume = nullptr);
 
 /// Everything a run made, in memory.
 struct RunOutput {

@@ -27,11 +27,13 @@ const char* kUsage =
     "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
     "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
-    "                 [--max-memory MB] [--max-sphere-steps X]\n"
+    "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
     "            --keep-alive-timeout 5 --max-connections 512\n"
-    "            --max-memory (half the physical memory, in MB) --max-sphere-steps 1e13\n"
+    "            --max-memory (half the physical memory, in MB) --max-sphere-steps 1e13 --checkpoint-seconds 60\n"
+    "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
+    "                        from there (0: never, jobs restart from zero)\n"
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
     "  --token-file: lines '<user> <token> [admin]'; then every route but /v1/health needs\n"
     "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it\n"
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
   std::string host = "127.0.0.1", db = "var/granulab.db", token_file;
-  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0;
+  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60;
   HttpOptions options;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
       else if (a == "--max-running-per-user") max_running_per_user = parse_int_option(a, v, 0, 1000000);
       else if (a == "--request-timeout") options.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
       else if (a == "--keep-alive-timeout") options.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+      else if (a == "--checkpoint-seconds") checkpoint_seconds = parse_int_option(a, v, 0, 86400);
       else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
       else if (a == "--max-memory") options.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
       else if (a == "--max-sphere-steps") options.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
     WorkerPool pool(store, workers, threads);
     pool.set_max_running_per_owner(max_running_per_user);
+    pool.set_checkpoint_seconds(checkpoint_seconds);
     if (!token_file.empty()) {
       std::string warning;
       options.tokens = read_token_file(token_file, &warning);

@@ -13,18 +13,45 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-StoreSink::StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds)
+StoreSink::StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds,
+                     double checkpoint_seconds, std::string engine_version)
     : store_(store),
       job_(job),
       stopping_(stopping),
       flush_seconds_(flush_seconds),
-      start_(std::chrono::steady_clock::now()),
+      checkpoint_seconds_(checkpoint_seconds),
+      engine_version_(std::move(engine_version)),
+      last_checkpoint_(std::chrono::steady_clock::now()),
+      start_(last_checkpoint_),
       last_flush_(start_) {}
 
-void StoreSink::begin(const std::vector<CurveColumn>& columns) {
+void StoreSink::begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) {
   columns_ = columns;
   curve_csv_ = api::curve_csv_header(columns);
+  if (resume) {
+    // The rows up to the checkpoint are in the store: the whole curve, when the job ends, starts with them.
+    const std::string stored = store_.live_curve_csv(job_).value_or(curve_csv_);
+    curve_csv_ = stored.substr(0, api::curve_csv_prefix(stored, resume->rows));
+    rows_stored_ = resume->rows;
+    return;
+  }
   store_.start_curve(job_, curve_csv_);
+}
+
+bool StoreSink::checkpoint_due() {
+  return checkpoint_seconds_ > 0 && seconds_since(last_checkpoint_) >= checkpoint_seconds_;
+}
+
+void StoreSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+  const JobStore::Checkpoint cp{state, std::int64_t(rows), std::int64_t(snapshots), engine_version_};
+  const auto t = std::chrono::steady_clock::now();
+  store_.append_results(job_, rows_stored_, pending_rows_, pending_snapshots_, &cp);
+  rows_stored_ += pending_rows_.size();
+  pending_rows_.clear();
+  pending_snapshots_.clear();
+  flush_seconds_total_ += seconds_since(t);
+  ++checkpoints_;
+  last_checkpoint_ = last_flush_ = std::chrono::steady_clock::now();
 }
 
 void StoreSink::curve_row(const std::vector<double>& values) {

@@ -3,7 +3,9 @@
 // job that is cancelled, fails or loses its daemon keeps what it computed up to the last batch. Between
 // batches the sink only buffers: the engine's loop never waits on SQLite for more than one batch a
 // second. Progress and the cancel flag are exchanged with the store at the same rhythm; `stopping`
-// (the daemon's shutdown) is checked at every progress call.
+// (the daemon's shutdown) is checked at every progress call. Every `checkpoint_seconds` the experiment's
+// state is stored too, in the same transaction as the rows and snapshots it goes with, so a job the
+// daemon loses resumes from there (WorkerPool::run_job) instead of from the start.
 #pragma once
 
 #include <atomic>
@@ -24,14 +26,20 @@ struct Interrupted : std::runtime_error {
 
 class StoreSink : public api::JobSink {
  public:
-  StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds);
+  StoreSink(JobStore& store, std::int64_t job, const std::atomic<bool>& stopping, double flush_seconds,
+            double checkpoint_seconds = 60, std::string engine_version = "");
 
-  void begin(const std::vector<CurveColumn>& columns) override;
+  /// With `resume`: the store already holds the rows and snapshots up to the checkpoint (trimmed).
+  void begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) override;
   void curve_row(const std::vector<double>& values) override;
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
   /// Throws Interrupted on shutdown; flushes, stores progress and an ETA and returns false on a
   /// cancel request, at most every flush_seconds.
   bool progress(double fraction) override;
+  bool checkpoint_due() override;
+  /// Flushes what is buffered with the checkpoint, in one transaction.
+  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
+  std::size_t checkpoints() const { return checkpoints_; }
   /// Flushes what is buffered and marks the job succeeded with its summary and whole curve.
   void summary(const nlohmann::json& summary) override;
   /// Writes what is buffered (also called by the worker when a run ends without a summary).
@@ -44,7 +52,10 @@ class StoreSink : public api::JobSink {
   JobStore& store_;
   std::int64_t job_;
   const std::atomic<bool>& stopping_;
-  double flush_seconds_;
+  double flush_seconds_, checkpoint_seconds_;
+  std::string engine_version_;
+  std::size_t checkpoints_ = 0;
+  std::chrono::steady_clock::time_point last_checkpoint_;
   std::vector<CurveColumn> columns_;
   std::string curve_csv_;                  // the whole curve, for the final store
   std::vector<std::string> pending_rows_;  // not yet in the store

@@ -3,10 +3,13 @@
 #include <omp.h>
 
 #include <chrono>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
+#include "api/engine_version.h"
 #include "api/runner.h"
+#include "engine/core/checkpoint.h"
 #include "server/store_sink.h"
 
 namespace granulab::server {
@@ -58,10 +61,29 @@ void WorkerPool::work() {
 void WorkerPool::run_job(const JobRecord& job) {
   spdlog::info("job {} started ({})", job.id, job.experiment);
   const auto start = std::chrono::steady_clock::now();
-  StoreSink sink(store_, job.id, stopping_, progress_seconds_);
+  // A job the daemon lost while it ran resumes from its checkpoint, if one of this build is stored.
+  std::optional<api::Resume> resume;
+  try {
+    if (const auto cp = store_.checkpoint(job.id)) {
+      if (cp->engine_version == api::engine_version()) {
+        resume = api::Resume{cp->state, std::size_t(cp->rows), std::size_t(cp->snapshots)};
+        CheckpointReader whole(resume->state);  // its frame and checksum, before any result is trimmed
+        store_.trim_results(job.id, cp->rows, cp->snapshots);
+        spdlog::info("job {} resumes from its checkpoint after {} curve rows", job.id, cp->rows);
+      } else {
+        store_.discard_partial_results(job.id);
+        spdlog::warn("job {}: its checkpoint is of another build ({}); it starts afresh", job.id, cp->engine_version);
+      }
+    }
+  } catch (const std::exception& e) {  // a checkpoint that cannot be read: start afresh
+    spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job.id, e.what());
+    resume.reset();
+    record_end(job.id, [&] { store_.discard_partial_results(job.id); });
+  }
+  StoreSink sink(store_, job.id, stopping_, progress_seconds_, checkpoint_seconds_, api::engine_version());
   try {
     const api::Spec spec = api::parse_spec_text(job.spec_json);
-    api::run(spec, sink);
+    api::run(spec, sink, resume ? &*resume : nullptr);
     spdlog::info("job {} succeeded in {:.1f} s; results written in {} batches taking {:.3f} s", job.id,
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), sink.flushes(),
                  sink.flush_seconds_total());

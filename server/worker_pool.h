@@ -24,6 +24,8 @@ class WorkerPool {
 
   /// At most this many running jobs per owner (0 = no limit); set before start().
   void set_max_running_per_owner(int n) { max_running_per_owner_ = n; }
+  /// A running job stores a checkpoint this often (s; 0 = never); a job the daemon loses resumes from it.
+  void set_checkpoint_seconds(double s) { checkpoint_seconds_ = s; }
   void start();
   /// A job was submitted: wake an idle worker.
   void notify();
@@ -46,6 +48,7 @@ class WorkerPool {
   JobStore& store_;
   int workers_, threads_per_job_;
   int max_running_per_owner_ = 0;
+  double checkpoint_seconds_ = 60;
   double progress_seconds_;
   std::vector<std::thread> threads_;
   std::mutex mutex_;

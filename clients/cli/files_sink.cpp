@@ -2,6 +2,9 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 
 #include "api/curve_format.h"
@@ -32,16 +35,54 @@ void write_file(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-FilesSink::FilesSink(const fs::path& dir, ProgressFn progress) : dir_(dir), progress_(std::move(progress)) {
+FilesSink::FilesSink(const fs::path& dir, ProgressFn progress, fs::path checkpoint_file, double checkpoint_seconds)
+    : dir_(dir),
+      progress_(std::move(progress)),
+      checkpoint_file_(std::move(checkpoint_file)),
+      checkpoint_seconds_(checkpoint_seconds),
+      last_checkpoint_(std::chrono::steady_clock::now()) {
   fs::create_directories(dir_ / "snapshots");
   fs::remove(dir_ / "summary.json");
+  if (!checkpoint_file_.empty()) fs::create_directories(checkpoint_file_.parent_path());
 }
 
-void FilesSink::begin(const std::vector<CurveColumn>& columns) {
+void FilesSink::begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) {
   columns_ = columns;
-  curve_.open(dir_ / "curve.csv", std::ios::trunc | std::ios::binary);
-  if (!curve_) throw std::runtime_error("cannot write '" + (dir_ / "curve.csv").string() + "'");
+  const fs::path path = dir_ / "curve.csv";
+  if (resume) {
+    // Keep the header and the rows up to the checkpoint, and the snapshots taken before it.
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t keep = api::curve_csv_prefix(text, resume->rows);
+    const auto rows_in = [](const std::string& csv) { return std::size_t(std::count(csv.begin(), csv.end(), '\n')); };
+    if (text.rfind(api::curve_csv_header(columns_), 0) != 0 || rows_in(text.substr(0, keep)) != resume->rows + 1)
+      throw std::runtime_error("'" + path.string() + "' does not hold the " + std::to_string(resume->rows) +
+                               " curve rows the checkpoint follows: resume into the --out of the interrupted run");
+    write_file(path, text.substr(0, keep));
+    for (const auto& entry : fs::directory_iterator(dir_ / "snapshots")) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("snapshot_", 0) != 0) continue;
+      const std::size_t k = std::strtoul(name.c_str() + 9, nullptr, 10);
+      if (k >= resume->snapshots) fs::remove(entry.path());
+    }
+    curve_.open(path, std::ios::app | std::ios::binary);
+    if (!curve_) throw std::runtime_error("cannot write '" + path.string() + "'");
+    return;
+  }
+  curve_.open(path, std::ios::trunc | std::ios::binary);
+  if (!curve_) throw std::runtime_error("cannot write '" + path.string() + "'");
   curve_ << api::curve_csv_header(columns_) << std::flush;
+}
+
+bool FilesSink::checkpoint_due() {
+  return !checkpoint_file_.empty() &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >= checkpoint_seconds_;
+}
+
+void FilesSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+  // curve.csv and the snapshots are already on disk up to here (flushed as made): the checkpoint follows.
+  write_file(checkpoint_file_, api::pack_resume({state, rows, snapshots}));
+  last_checkpoint_ = std::chrono::steady_clock::now();
 }
 
 void FilesSink::curve_row(const std::vector<double>& values) {
@@ -61,6 +102,7 @@ void FilesSink::summary(const nlohmann::json& summary) {
   nlohmann::json s = summary;
   s["peak_rss_bytes"] = peak_rss_bytes();
   write_file(dir_ / "summary.json", s.dump(2) + "\n");
+  if (!checkpoint_file_.empty()) fs::remove(checkpoint_file_);  // a finished run is not resumed
 }
 
 }  // namespace granulab::cli

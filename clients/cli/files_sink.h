@@ -2,9 +2,12 @@
 // run keeps what it computed: DIR/curve.csv grows a row at a time (flushed), each snapshot k is written
 // when taken as snapshots/snapshot_k.json (compact, what the server stores), .dump (LAMMPS text dump,
 // opens in OVITO), _grains.vtk and _interfaces.vtk (ParaView); summary.json, written last, marks a
-// finished run.
+// finished run. With a checkpoint file, the run's state is written there every `checkpoint_seconds`
+// (atomically: a crash leaves the previous one), and a run resumed from it trims curve.csv and the
+// snapshots back to the checkpoint and carries on.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <vector>
@@ -15,9 +18,13 @@ namespace granulab::cli {
 
 class FilesSink : public api::JobSink {
  public:
-  /// Creates DIR and DIR/snapshots; removes a summary.json left by an earlier run.
-  FilesSink(const std::filesystem::path& dir, ProgressFn progress);
-  void begin(const std::vector<CurveColumn>& columns) override;
+  /// Creates DIR and DIR/snapshots; removes a summary.json left by an earlier run. `checkpoint_file`
+  /// empty: no checkpoints.
+  FilesSink(const std::filesystem::path& dir, ProgressFn progress, std::filesystem::path checkpoint_file = {},
+            double checkpoint_seconds = 60);
+  void begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) override;
+  bool checkpoint_due() override;
+  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
   void curve_row(const std::vector<double>& values) override;
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
   bool progress(double fraction) override { return !progress_ || progress_(fraction); }
@@ -29,6 +36,9 @@ class FilesSink : public api::JobSink {
   ProgressFn progress_;
   std::vector<CurveColumn> columns_;
   std::ofstream curve_;
+  std::filesystem::path checkpoint_file_;
+  double checkpoint_seconds_;
+  std::chrono::steady_clock::time_point last_checkpoint_;
 };
 
 /// Writes to a temporary name and renames, so a crash never leaves a half-written file.

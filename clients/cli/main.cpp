@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -32,12 +33,15 @@ namespace {
 
 const char* kUsage =
     "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
+    "                    [--checkpoint-dir CDIR [--checkpoint-seconds S] [--resume]]\n"
     "       granulab submit SPEC.json [--reuse] [--priority N] | status ID | wait ID | results ID --out DIR |\n"
     "                cancel ID | priority ID --priority N | delete ID | list [--status S] [--owner U] [--limit N]\n"
     "                (server: --server URL or GRANULAB_SERVER; token: GRANULAB_TOKEN)\n"
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
+    "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60); --resume continues\n"
+    "a killed run of the same spec from there, bit for bit (no checkpoint yet: it starts from zero).\n"
     "The spec's fields: docs/spec.md or `granulab experiments --markdown` (every field has a default).\n";
 
 std::string read_file(const fs::path& path) {
@@ -97,20 +101,31 @@ void print_profile(const fs::path& summary_path) {
                s["threads"].get<int>());
 }
 
+// The hash part of the engine version: checkpoints of another build are not this build's to resume.
+std::string build_id() {
+  const std::string v = api::engine_version();
+  return v.substr(v.find('+') + 1);
+}
+
 int run(int argc, char** argv) {
-  std::string spec_path, out_dir;
-  int threads = -1;
-  bool quiet = false, profile = false;
+  std::string spec_path, out_dir, checkpoint_dir;
+  int threads = -1, checkpoint_seconds = 60;
+  bool quiet = false, profile = false, resume = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
     else if (a == "--threads" && i + 1 < argc) threads = api::parse_int_option("--threads", argv[++i], 1, 256);
     else if (a == "--quiet") quiet = true;
     else if (a == "--profile") profile = true;
+    else if (a == "--checkpoint-dir" && i + 1 < argc) checkpoint_dir = argv[++i];
+    else if (a == "--checkpoint-seconds" && i + 1 < argc)
+      checkpoint_seconds = api::parse_int_option("--checkpoint-seconds", argv[++i], 0, 86400);
+    else if (a == "--resume") resume = true;
     else if (spec_path.empty() && a.rfind("--", 0) != 0) spec_path = a;
     else throw std::invalid_argument("unexpected argument '" + a + "'\n" + kUsage);
   }
   if (spec_path.empty() || out_dir.empty()) throw std::invalid_argument(std::string("run needs SPEC and --out DIR\n") + kUsage);
+  if (resume && checkpoint_dir.empty()) throw std::invalid_argument("--resume needs --checkpoint-dir CDIR");
 
   api::Spec spec;
   try {
@@ -123,10 +138,22 @@ int run(int argc, char** argv) {
 
   const fs::path out(out_dir);
   ProgressPrinter printer(quiet);
-  cli::FilesSink sink(out, [&](double f) { return printer(f); });
+  // One checkpoint file per spec (and build): another spec's or build's is never picked up by mistake.
+  const fs::path checkpoint_file =
+      checkpoint_dir.empty() ? fs::path()
+                             : fs::path(checkpoint_dir) / ("checkpoint_" + api::spec_hash(spec.normalized) + "_" +
+                                                           build_id() + ".bin");
+  std::optional<api::Resume> from;
+  if (resume && fs::exists(checkpoint_file)) {
+    from = api::unpack_resume(read_file(checkpoint_file));
+    spdlog::info("resuming from {} after {} curve rows", checkpoint_file.string(), from->rows);
+  } else if (resume) {
+    spdlog::warn("no checkpoint of this spec in {}: starting from zero", checkpoint_dir);
+  }
+  cli::FilesSink sink(out, [&](double f) { return printer(f); }, checkpoint_file, checkpoint_seconds);
   spdlog::info("{}{}: {} thread(s); spec with defaults in {}", spec.name(),
                spec.label.empty() ? "" : " \"" + spec.label + "\"", omp_get_max_threads(), (out / "summary.json").string());
-  const nlohmann::json summary = api::run(spec, sink);
+  const nlohmann::json summary = api::run(spec, sink, from ? &*from : nullptr);
   for (const auto& w : summary.value("warnings", nlohmann::json::array())) spdlog::warn("{}", w.get<std::string>());
   const double steps = summary["steps"].get<double>(), wall = summary["wall_seconds"].get<double>();
   spdlog::info("{} grains, {} spheres, {:.0f} steps in {:.1f} s ({:.3g} s/step); curve: {}", summary["grains"].get<long>(),

@@ -199,4 +199,16 @@ void Membrane::local_envelope(const std::vector<double>& height, int nu, int nv,
     }
 }
 
+void Membrane::save(CheckpointWriter& w) const {
+  w.section("membrane");
+  w.value(pressure_);
+  w.value(stats_);
+}
+
+void Membrane::restore(CheckpointReader& r) {
+  r.section("membrane");
+  r.value(pressure_);
+  r.value(stats_);
+}
+
 }  // namespace granulab

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/checkpoint.h"
 #include "engine/core/types.h"
 
 namespace granulab {
@@ -47,6 +48,9 @@ class Membrane {
   double pressure() const { return pressure_; }
   void set_pressure(double p) { pressure_ = p; }
   const MembraneStats& stats() const { return stats_; }
+  /// Pressure and last stats (checkpoints); the height maps are rebuilt at every apply().
+  void save(CheckpointWriter& w) const;
+  void restore(CheckpointReader& r);
 
  private:
   // Per axis (x, y): the height maps of its two faces and what they push, reused between calls.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/boundary/wall.h"
+#include "engine/core/checkpoint.h"
 #include "engine/contact/template_grid.h"
 #include "engine/dynamics/bodies.h"
 
@@ -54,6 +55,10 @@ class NeighborList {
   std::vector<Vec3>& history() { return history_; }
   const std::vector<std::uint64_t>& wall_keys() const { return wall_keys_; }
   std::vector<Vec3>& wall_history() { return wall_history_; }
+
+  /// The candidates and their shear history exactly (checkpoints); the old_* lists are scratch.
+  void save(CheckpointWriter& w) const;
+  void restore(CheckpointReader& r);
 
  private:
   void broad_phase(const Bodies& bodies);

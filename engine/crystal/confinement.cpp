@@ -27,7 +27,8 @@ void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r) {
                       std::to_string(r.kinetic_elastic_ratio) + "): what follows started from a sample not at rest");
 }
 
-ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, const ConfinementCheck& on_check) {
+ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, const ConfinementCheck& on_check,
+                          ConfinementState* state, const std::function<void()>& safe_point) {
   ConfinementReport r;
   const CrystalSampleParams& p = sample.params();
   World& world = sample.world();
@@ -38,8 +39,11 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
   // with time constant tau, which is kept well above the sample's response time (~ L/c ~ 10 t0).
   const double servo_time = 50 * sample.contact_time();
   const double kn = world.law().normal_stiffness;
-  int good = 0;
-  const std::uint64_t start = world.steps();
+  ConfinementState own;
+  ConfinementState& s = state ? *state : own;
+  if (!s.begun) s = {true, world.steps(), 0};
+  int& good = s.good;
+  const std::uint64_t start = s.start;
   while (world.steps() - start < p.max_confinement_steps) {
     for (std::size_t w : {top, bottom}) {
       Wall& wall = world.walls()[w];
@@ -65,6 +69,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       r.converged = true;
       break;
     }
+    if (safe_point) safe_point();
   }
   for (Wall& w : world.walls()) w.velocity.setZero();
   r.steps = world.steps() - start;

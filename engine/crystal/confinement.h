@@ -32,9 +32,19 @@ void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r);
 /// Called at each equilibrium check (every membrane_interval steps) with the steps taken so far.
 using ConfinementCheck = std::function<void(std::uint64_t steps)>;
 
+/// Where a confinement stands between two checks: with the sample's world, all a resumed one needs.
+struct ConfinementState {
+  bool begun = false;
+  std::uint64_t start = 0;  ///< world step at which it began
+  int good = 0;             ///< consecutive checks meeting the criterion
+};
+
 /// Confines the sample. `progress` gets a fraction that approaches 1 on the servo's time scale (the
 /// length of the phase is not known in advance); returning false stops the run (throws Cancelled).
+/// With `state`, continues from it (a restored sample and state resume a checkpointed confinement) and
+/// calls `safe_point` after each check that did not end the phase: a checkpoint may be taken there.
 ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress = nullptr,
-                          const ConfinementCheck& on_check = nullptr);
+                          const ConfinementCheck& on_check = nullptr, ConfinementState* state = nullptr,
+                          const std::function<void()>& safe_point = nullptr);
 
 }  // namespace granulab

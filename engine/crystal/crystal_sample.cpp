@@ -119,4 +119,14 @@ std::pair<double, double> CrystalSample::lateral_stresses() const {
           area_y > 0 && thickness > 0 ? fl.y() / (area_y * thickness) : 0.0};
 }
 
+void CrystalSample::save(CheckpointWriter& w) const {
+  world_.save(w);
+  membrane_.save(w);
+}
+
+void CrystalSample::restore(CheckpointReader& r) {
+  world_.restore(r);
+  membrane_.restore(r);
+}
+
 }  // namespace granulab

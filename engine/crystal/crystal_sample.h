@@ -92,6 +92,9 @@ class CrystalSample {
   void update_membrane();
   /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
   void check_finite() const;
+  /// The world and the bag (checkpoints); everything else follows from the parameters.
+  void save(CheckpointWriter& w) const;
+  void restore(CheckpointReader& r);
 
  private:
   CrystalSampleParams params_;

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/analysis/grain_snapshot.h"
@@ -36,6 +37,15 @@ class ResultSink {
   /// The completed fraction in [0, 1], at least every few hundred steps; return false to stop the run
   /// (the experiment then throws Cancelled). May throw to abandon the run.
   virtual bool progress(double fraction) { (void)fraction; return true; }
+  /// Checkpoints (docs/architecture.md, "Checkpoints"): asked at the experiment's safe points, at least
+  /// every few hundred steps; true when one should be written now.
+  virtual bool checkpoint_due() { return false; }
+  /// The run's full state after `rows` curve rows and `snapshots` snapshots went to this sink: a run
+  /// resumed from it (Experiment::run) continues bit for bit, starting with row `rows` and snapshot
+  /// `snapshots`. Keep it with those counts, atomically.
+  virtual void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+    (void)state, (void)rows, (void)snapshots;
+  }
 };
 
 /// The progress callback of the physics classes, for callers that want nothing else.

@@ -246,4 +246,82 @@ void World::wall_forces() {
   }
 }
 
+void World::save(CheckpointWriter& w) const {
+  w.section("world");
+  w.value(std::uint64_t(bodies_.size()));
+  w.value(std::uint64_t(walls_.size()));
+  w.values(bodies_.position);
+  w.values(bodies_.orientation);
+  w.values(bodies_.velocity);
+  w.values(bodies_.angular_momentum);
+  w.values(bodies_.angular_velocity);
+  w.values(bodies_.force);
+  w.values(bodies_.torque);
+  w.values(bodies_.mass);
+  w.values(bodies_.inertia);
+  w.values(bodies_.motion);
+  w.values(walls_);
+  neighbors_.save(w);
+  w.values(built_position_);
+  w.values(built_orientation_);
+  w.values(built_wall_point_);
+  w.value(built_);
+  w.values(pair_force_);
+  w.values(pair_torque_a_);
+  w.values(pair_torque_b_);
+  w.values(pair_contacts_);
+  w.values(pair_sliding_);
+  w.values(pair_overlap_);
+  w.values(pair_energy_);
+  w.values(overlap_sum_);
+  w.values(external_force_);
+  w.values(external_torque_);
+  w.value(time_);
+  w.value(steps_);
+  w.value(rebuilds_);
+  w.value(stats_);
+  w.value(times_);
+}
+
+void World::restore(CheckpointReader& r) {
+  r.section("world");
+  const auto bodies = r.value<std::uint64_t>(), walls = r.value<std::uint64_t>();
+  if (bodies != bodies_.size() || walls != walls_.size())
+    throw CheckpointError("checkpoint of a world with " + std::to_string(bodies) + " bodies and " + std::to_string(walls) +
+                          " walls, this one has " + std::to_string(bodies_.size()) + " and " +
+                          std::to_string(walls_.size()) + ": not the same spec");
+  r.values(bodies_.position);
+  r.values(bodies_.orientation);
+  r.values(bodies_.velocity);
+  r.values(bodies_.angular_momentum);
+  r.values(bodies_.angular_velocity);
+  r.values(bodies_.force);
+  r.values(bodies_.torque);
+  r.values(bodies_.mass);
+  r.values(bodies_.inertia);
+  r.values(bodies_.motion);
+  r.values(walls_);
+  neighbors_.restore(r);
+  r.values(built_position_);
+  r.values(built_orientation_);
+  r.values(built_wall_point_);
+  r.value(built_);
+  r.values(pair_force_);
+  r.values(pair_torque_a_);
+  r.values(pair_torque_b_);
+  r.values(pair_contacts_);
+  r.values(pair_sliding_);
+  r.values(pair_overlap_);
+  r.values(pair_energy_);
+  r.values(overlap_sum_);
+  r.values(external_force_);
+  r.values(external_torque_);
+  r.value(time_);
+  r.value(steps_);
+  r.value(rebuilds_);
+  r.value(stats_);
+  r.value(times_);
+  spheres_current_ = false;  // sphere positions follow from the restored poses
+}
+
 }  // namespace granulab

@@ -77,6 +77,11 @@ class World {
   /// Translational plus rotational kinetic energy of the dynamic bodies (J).
   double kinetic_energy() const;
 
+  /// Everything a step reads or a measurement reports, bit for bit (checkpoints). restore() needs a world
+  /// built the same way (same template, law, settings, number of bodies and walls); throws CheckpointError.
+  void save(CheckpointWriter& w) const;
+  void restore(CheckpointReader& r);
+
  private:
   void update_sphere_positions() const;
   bool needs_rebuild() const;

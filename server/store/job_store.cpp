@@ -119,6 +119,7 @@ bool JobStore::succeed(std::int64_t id, const std::string& summary_json, const s
   Statement rows(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");  // the whole curve replaces them
   rows.bind(1, id).run();
   log_event_locked(id, "succeeded", "");
+  drop_checkpoint_locked(id);  // a finished job is never resumed
   tx.commit();
   return true;
 }
@@ -132,6 +133,7 @@ bool JobStore::fail(std::int64_t id, const std::string& error) {
   st.bind(1, id).bind(2, error).bind(3, now_ms()).run();
   if (db_->changes() == 0) return false;
   log_event_locked(id, "failed", error);
+  drop_checkpoint_locked(id);  // a finished job is never resumed
   tx.commit();
   return true;
 }
@@ -145,6 +147,7 @@ bool JobStore::mark_cancelled(std::int64_t id) {
   st.bind(1, id).bind(2, now_ms()).run();
   if (db_->changes() == 0) return false;
   log_event_locked(id, "cancelled", "stopped by its worker");
+  drop_checkpoint_locked(id);  // a finished job is never resumed
   tx.commit();
   return true;
 }
@@ -164,6 +167,7 @@ JobStore::CancelResult JobStore::request_cancel(std::int64_t id) {
     Statement st(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
     st.bind(1, id).bind(2, now_ms()).run();
     log_event_locked(id, "cancelled", "cancelled while queued");
+  drop_checkpoint_locked(id);  // a finished job is never resumed
     result = CancelResult::cancelled_queued;
   } else if (status == "running") {
     Statement st(*db_, "UPDATE jobs SET cancel_requested = 1 WHERE id = ?1");
@@ -189,7 +193,8 @@ JobStore::WriteResult JobStore::remove(std::int64_t id) {
   }
   if (status == "queued" || status == "running") return WriteResult::wrong_state;
   for (const char* sql : {"DELETE FROM snapshots WHERE job_id = ?1", "DELETE FROM curve_rows WHERE job_id = ?1",
-                          "DELETE FROM curves WHERE job_id = ?1", "DELETE FROM jobs WHERE id = ?1"}) {
+                          "DELETE FROM curves WHERE job_id = ?1", "DELETE FROM checkpoints WHERE job_id = ?1",
+                          "DELETE FROM jobs WHERE id = ?1"}) {
     Statement st(*db_, sql);
     st.bind(1, id).run();
   }
@@ -278,7 +283,7 @@ void JobStore::start_curve(std::int64_t id, const std::string& header) {
 }
 
 void JobStore::append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
-                              const std::vector<SnapshotBlob>& snapshots) {
+                              const std::vector<SnapshotBlob>& snapshots, const Checkpoint* checkpoint) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   {
@@ -298,6 +303,44 @@ void JobStore::append_results(std::int64_t id, std::size_t first_index, const st
     snap.reset();
     snap.bind(1, id).bind(2, b.index).bind(3, b.strain);
     snap.bind_blob(4, std::vector<std::uint8_t>(b.data.begin(), b.data.end())).run();
+  }
+  if (checkpoint) {
+    Statement cp(*db_,
+                 "INSERT OR REPLACE INTO checkpoints (job_id, state, rows, snapshots, engine_version, at_ms) "
+                 "VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+    cp.bind(1, id).bind_blob(2, std::vector<std::uint8_t>(checkpoint->state.begin(), checkpoint->state.end()));
+    cp.bind(3, checkpoint->rows).bind(4, checkpoint->snapshots).bind(5, checkpoint->engine_version).bind(6, now_ms()).run();
+  }
+  tx.commit();
+}
+
+std::optional<JobStore::Checkpoint> JobStore::checkpoint(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT state, rows, snapshots, engine_version FROM checkpoints WHERE job_id = ?1");
+  st.bind(1, id);
+  if (!st.step()) return std::nullopt;
+  const std::vector<std::uint8_t> blob = st.column_blob(0);
+  return Checkpoint{std::string(blob.begin(), blob.end()), st.column_int64(1), st.column_int64(2), st.column_text(3)};
+}
+
+void JobStore::trim_results(std::int64_t id, std::int64_t rows, std::int64_t snapshots) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  Statement r(*db_, "DELETE FROM curve_rows WHERE job_id = ?1 AND idx >= ?2");
+  r.bind(1, id).bind(2, rows).run();
+  Statement s(*db_, "DELETE FROM snapshots WHERE job_id = ?1 AND idx >= ?2");
+  s.bind(1, id).bind(2, snapshots).run();
+  log_event_locked(id, "resumed", "from its checkpoint after " + std::to_string(rows) + " curve rows");
+  tx.commit();
+}
+
+void JobStore::discard_partial_results(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Transaction tx(*db_);
+  for (const char* sql : {"DELETE FROM checkpoints WHERE job_id = ?1", "DELETE FROM snapshots WHERE job_id = ?1",
+                          "DELETE FROM curve_rows WHERE job_id = ?1"}) {
+    Statement st(*db_, sql);
+    st.bind(1, id).run();
   }
   tx.commit();
 }
@@ -376,6 +419,7 @@ std::size_t JobStore::requeue_running() {
       Statement job(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
       job.bind(1, id).bind(2, now_ms()).run();
       log_event_locked(id, "cancelled", "cancel requested before the daemon stopped");
+  drop_checkpoint_locked(id);  // a finished job is never resumed
     }
   }
   {
@@ -383,6 +427,20 @@ std::size_t JobStore::requeue_running() {
     while (st.step()) ids.push_back(st.column_int64(0));
   }
   for (const std::int64_t id : ids) {
+    Statement has(*db_, "SELECT rows FROM checkpoints WHERE job_id = ?1");
+    has.bind(1, id);
+    if (has.step()) {
+      // It resumes from its checkpoint: the results up to it stay (those after it are trimmed then).
+      const std::int64_t rows = has.column_int64(0);
+      Statement job(*db_,
+                    "UPDATE jobs SET status = 'queued', eta_seconds = -1, started_ms = 0, cancel_requested = 0 "
+                    "WHERE id = ?1");
+      job.bind(1, id).run();
+      log_event_locked(id, "requeued",
+                       "was running when the daemon stopped; resumes from its checkpoint after " + std::to_string(rows) +
+                           " curve rows");
+      continue;
+    }
     Statement job(*db_,
                   "UPDATE jobs SET status = 'queued', progress = 0, eta_seconds = -1, started_ms = 0, "
                   "cancel_requested = 0 WHERE id = ?1");
@@ -406,6 +464,11 @@ std::size_t JobStore::requeue_running() {
 void JobStore::log_event(std::int64_t job_id, const std::string& kind, const std::string& message) {
   std::lock_guard<std::mutex> lock(mutex_);
   log_event_locked(job_id, kind, message);
+}
+
+void JobStore::drop_checkpoint_locked(std::int64_t id) {
+  Statement st(*db_, "DELETE FROM checkpoints WHERE job_id = ?1");
+  st.bind(1, id).run();
 }
 
 void JobStore::log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message) {

@@ -118,8 +118,21 @@ class JobStore {
   void start_curve(std::int64_t id, const std::string& header);
   /// Appends curve lines (newline included) numbered from `first_index`, and snapshots, in one
   /// transaction. Ignored unless the job is running.
+  /// A running job's checkpoint: the engine's state after `rows` curve rows and `snapshots` snapshots.
+  struct Checkpoint {
+    std::string state;
+    std::int64_t rows = 0, snapshots = 0;
+    std::string engine_version;  ///< of the build that wrote it: another build starts the job afresh
+  };
+  /// With `checkpoint`, stores it in the same transaction as the rows and snapshots it goes with.
   void append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
-                      const std::vector<SnapshotBlob>& snapshots);
+                      const std::vector<SnapshotBlob>& snapshots, const Checkpoint* checkpoint = nullptr);
+  std::optional<Checkpoint> checkpoint(std::int64_t id);
+  /// Before a resumed run: drops the rows and snapshots made after the checkpoint (they are made again).
+  void trim_results(std::int64_t id, std::int64_t rows, std::int64_t snapshots);
+  /// A job that starts afresh after all (e.g. its checkpoint is of another build): drops the checkpoint
+  /// and every result.
+  void discard_partial_results(std::int64_t id);
   /// The curve as CSV: the stored whole curve of a succeeded job, else the header and the rows written so
   /// far (running, and what a cancelled or failed job computed); nullopt when there is none.
   std::optional<std::string> live_curve_csv(std::int64_t id);
@@ -146,6 +159,7 @@ class JobStore {
   std::vector<std::string> events(std::int64_t job_id);
 
  private:
+  void drop_checkpoint_locked(std::int64_t id);
   void log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message);
   std::optional<JobRecord> get_locked(std::int64_t id);
   std::optional<std::string> curve_column(std::int64_t id, const char* column);

@@ -77,6 +77,18 @@ CREATE TABLE curve_rows (
   PRIMARY KEY (job_id, idx)
 ) WITHOUT ROWID;
 )sql",
+    // 3: checkpoints. A running job's last checkpoint (the engine's state and the counts of rows and
+    // snapshots it goes with), written in the same transaction as those rows: a restart resumes from it.
+    R"sql(
+CREATE TABLE checkpoints (
+  job_id         INTEGER PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
+  state          BLOB    NOT NULL,
+  rows           INTEGER NOT NULL,
+  snapshots      INTEGER NOT NULL,
+  engine_version TEXT    NOT NULL,
+  at_ms          INTEGER NOT NULL
+);
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

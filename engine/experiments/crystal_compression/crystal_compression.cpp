@@ -112,39 +112,69 @@ GrainSnapshot CrystalCompression::snapshot(double strain) const {
   return s;
 }
 
-CrystalResult CrystalCompression::run(ResultSink& sink) {
-  const auto start = std::chrono::steady_clock::now();
-  CrystalResult r;
-  // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
-  r.confinement = confine([&](double f) { return sink.progress(0.1 * f); });
-
-  // Reference state for strains, displacements and lateral strains.
-  World& world = sample_.world();
-  const Bodies& b = world.bodies();
+void CrystalCompression::take_reference() {
+  const Bodies& b = sample_.world().bodies();
   ref_position_ = b.position;
   ref_orientation_ = b.orientation;
   interfaces_ = neighbour_pairs(ref_position_, 1.1 * params_.grain.size / std::sqrt(2.0));
   ref_width_ = mean_coordinate(sample_.side(1), ref_position_, 0) - mean_coordinate(sample_.side(0), ref_position_, 0);
   ref_thickness_ = mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);
+  const auto& walls = sample_.world().walls();
+  ref_length_ = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();
+}
+
+// The snapshots are kept as (strain, step) only: the summary lists no more, and the sink has the rest.
+std::string CrystalCompression::checkpoint(const Position& at, const CrystalResult& r) const {
+  CheckpointWriter out;
+  sample_.save(out);
+  out.section("crystal_compression");
+  out.value(at);
+  out.value(r.confinement);
+  out.values(r.curve);
+  out.value(std::uint64_t(r.snapshots.size()));
+  for (const GrainSnapshot& s : r.snapshots) out.value(s.strain), out.value(s.step);
+  out.values(ref_position_);
+  out.values(ref_orientation_);
+  out.values(interfaces_);
+  out.value(ref_length_), out.value(ref_width_), out.value(ref_thickness_);
+  return out.finish();
+}
+
+void CrystalCompression::restore(const std::string& checkpoint, Position& at, CrystalResult& r) {
+  CheckpointReader in(checkpoint);
+  sample_.restore(in);
+  in.section("crystal_compression");
+  in.value(at);
+  in.value(r.confinement);
+  in.values(r.curve);
+  r.snapshots.resize(in.value<std::uint64_t>());
+  for (GrainSnapshot& s : r.snapshots) in.value(s.strain), in.value(s.step);
+  in.values(ref_position_);
+  in.values(ref_orientation_);
+  in.values(interfaces_);
+  in.value(ref_length_), in.value(ref_width_), in.value(ref_thickness_);
+  in.finish();
+}
+
+CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resume) {
+  const auto start = std::chrono::steady_clock::now();
+  CrystalResult r;
+  Position at;
+  if (!resume.empty()) restore(resume, at, r);
+  const auto safe_point = [&] {
+    if (sink.checkpoint_due()) sink.checkpoint(checkpoint(at, r), r.curve.size(), r.snapshots.size());
+  };
+  World& world = sample_.world();
   Wall& top = world.walls()[sample_.top_wall()];
   Wall& bottom = world.walls()[sample_.bottom_wall()];
-  ref_length_ = top.point.z() - bottom.point.z();
 
-  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
-  const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
-  const double dt = world.settings().time_step;
-  // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
-  // stress wave of amplitude E R (= p0 at R = 1e-5, E = 3 GPa) through it.
-  const double ramp_time = 10 * ref_length_ / wave_speed;
   const std::vector<double> record_at = curve_strains(params_.max_strain, params_.curve_points);
-
   std::vector<double> targets = params_.snapshot_strains;
   std::sort(targets.begin(), targets.end());
-  std::size_t next_snapshot = 0, next_row = 0;
   auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
   auto take_due_snapshots = [&] {
-    while (next_snapshot < targets.size() && strain_now() >= targets[next_snapshot] - 1e-12) {
-      r.snapshots.push_back(snapshot(targets[next_snapshot++]));
+    while (at.next_snapshot < targets.size() && strain_now() >= targets[at.next_snapshot] - 1e-12) {
+      r.snapshots.push_back(snapshot(targets[at.next_snapshot++]));
       sink.snapshot(r.snapshots.size() - 1, r.snapshots.back());
     }
   };
@@ -152,10 +182,27 @@ CrystalResult CrystalCompression::run(ResultSink& sink) {
     r.curve.push_back(measure(strain));
     sink.curve_row(r.curve.back().values());
   };
-  record(0);
-  take_due_snapshots();
-  const std::uint64_t first = world.steps();
-  while (next_row < record_at.size()) {
+
+  if (!at.compressing) {
+    // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
+    r.confinement = granulab::confine(sample_, [&](double f) { return sink.progress(0.1 * f); }, nullptr,
+                                      &at.confinement, safe_point);
+    // Reference state for strains, displacements and lateral strains.
+    take_reference();
+    at.compressing = true;
+    record(0);
+    take_due_snapshots();
+    at.first = world.steps();
+  }
+
+  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
+  const double dt = world.settings().time_step;
+  // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
+  // stress wave of amplitude E R (= p0 at R = 1e-5, E = 3 GPa) through it.
+  const double ramp_time = 10 * ref_length_ / wave_speed;
+  const std::uint64_t first = at.first;
+  while (at.next_row < record_at.size()) {
     // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
     // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
     const double t = (world.steps() - first) * dt;
@@ -167,13 +214,17 @@ CrystalResult CrystalCompression::run(ResultSink& sink) {
     }
     take_due_snapshots();
     const double strain = strain_now();
-    // Every 100 steps (< 1 s even at full size): a cancelled run stops promptly.
-    if ((world.steps() - first) % 100 == 0 &&
-        !sink.progress(0.1 + 0.9 * std::min(1.0, std::max(0.0, strain) / params_.max_strain)))
-      throw Cancelled();
-    if (!(strain >= record_at[next_row] - 1e-12 * params_.max_strain)) continue;
-    while (next_row < record_at.size() && strain >= record_at[next_row] - 1e-12 * params_.max_strain) ++next_row;
-    record(strain);
+    const bool row_due = strain >= record_at[at.next_row] - 1e-12 * params_.max_strain;
+    if (row_due) {
+      while (at.next_row < record_at.size() && strain >= record_at[at.next_row] - 1e-12 * params_.max_strain)
+        ++at.next_row;
+      record(strain);
+    }
+    // Every 100 steps (< 1 s even at full size): a cancelled run stops promptly; a checkpoint may follow.
+    if ((world.steps() - first) % 100 == 0) {
+      if (!sink.progress(0.1 + 0.9 * std::min(1.0, std::max(0.0, strain) / params_.max_strain))) throw Cancelled();
+      if (at.next_row < record_at.size()) safe_point();
+    }
   }
   sink.progress(1.0);
   top.velocity.setZero();

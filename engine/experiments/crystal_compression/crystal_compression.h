@@ -72,13 +72,24 @@ class CrystalCompression {
   ConfinementReport confine(const ProgressFn& progress = nullptr) { return granulab::confine(sample_, progress); }
   /// Confines, compresses, records: each curve row and snapshot goes to `sink` as it is made; the sink
   /// may stop the run (throws Cancelled).
-  CrystalResult run(ResultSink& sink);
+  /// `resume`: a checkpoint this run's sink was given (ResultSink::checkpoint), or empty.
+  CrystalResult run(ResultSink& sink, const std::string& resume = "");
   CrystalResult run() {
     ResultSink none;
     return run(none);
   }
 
  private:
+  /// Where the run stands between two steps, beyond the sample: what a checkpoint holds.
+  struct Position {
+    bool compressing = false;          ///< false: still confining
+    ConfinementState confinement;
+    std::uint64_t first = 0;           ///< world step at which the compression began
+    std::size_t next_row = 0, next_snapshot = 0;
+  };
+  std::string checkpoint(const Position& at, const CrystalResult& r) const;
+  void restore(const std::string& checkpoint, Position& at, CrystalResult& r);
+  void take_reference();
   CrystalRow measure(double strain) const;
   GrainSnapshot snapshot(double strain) const;
 

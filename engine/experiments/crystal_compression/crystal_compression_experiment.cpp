@@ -82,10 +82,10 @@ Workload CrystalCompressionExperiment::workload() const {
   return w;
 }
 
-std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& sink) const {
+std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& sink, const std::string& resume) const {
   auto out = std::make_unique<CrystalSummary>();
   CrystalCompression experiment(params);
-  out->r = experiment.run(sink);
+  out->r = experiment.run(sink, resume);
   out->p0 = params.confining_pressure;
   return out;
 }

@@ -46,18 +46,39 @@ void CrystalConfinementExperiment::parameters(ParameterVisitor& v) { visit_cryst
 
 Workload CrystalConfinementExperiment::workload() const { return confinement_workload(params); }
 
-std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink) const {
+std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink, const std::string& resume) const {
   const auto start = std::chrono::steady_clock::now();
   auto out = std::make_unique<ConfinementSummary>();
   CrystalSample sample(params);
+  ConfinementState state;
+  std::uint64_t rows = 0;
   auto record = [&](std::uint64_t steps) {
     const auto [sx, sy] = sample.lateral_stresses();
     const ConfinementRow row{double(steps), sample.wall_stress(sample.top_wall()), sample.wall_stress(sample.bottom_wall()),
                              sx, sy, sample.kinetic_elastic_ratio()};
     sink.curve_row(row.values());
+    ++rows;
   };
-  record(0);
-  out->report = confine(sample, [&](double f) { return sink.progress(f); }, record);
+  if (resume.empty()) {
+    record(0);
+  } else {
+    CheckpointReader in(resume);
+    sample.restore(in);
+    in.section("crystal_confinement");
+    in.value(state);
+    in.value(rows);
+    in.finish();
+  }
+  const auto safe_point = [&] {
+    if (!sink.checkpoint_due()) return;
+    CheckpointWriter w;
+    sample.save(w);
+    w.section("crystal_confinement");
+    w.value(state);
+    w.value(rows);
+    sink.checkpoint(w.finish(), rows, 0);
+  };
+  out->report = confine(sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);
   sink.progress(1.0);
   out->prestrain = hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus);
   out->run = sample.world().run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

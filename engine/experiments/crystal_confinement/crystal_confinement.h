@@ -31,7 +31,7 @@ class CrystalConfinementExperiment : public Experiment {
   void parameters(ParameterVisitor& v) override;
   const std::vector<CurveColumn>& curve_columns() const override { return ConfinementRow::columns(); }
   Workload workload() const override;
-  std::unique_ptr<ExperimentResult> run(ResultSink& sink) const override;
+  std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const override;
 };
 
 std::unique_ptr<Experiment> make_crystal_confinement();

@@ -55,7 +55,7 @@ std::vector<double> TwoCubeRow::values() const {
   return {slide_over_size, normal_over_p0, tangential_over_p0, normal_force, tangential_force};
 }
 
-TwoCubeResult TwoCubeSliding::run(ResultSink& sink) {
+TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
   const auto start = std::chrono::steady_clock::now();
   const TwoCubeParams& p = params_;
   const double l = p.grain.size, d = grain_.diameter(), s = grain_.spacing();
@@ -75,19 +75,35 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink) {
     r.curve.push_back({u / l, pn / p0_, t / p0_, pn, t});
     sink.curve_row(r.curve.back().values());
   };
-  place_at(0);
-  record(0);
-  world_.bodies().velocity[top_] = Vec3(speed, 0, 0);
-  const std::uint64_t first_step = world_.steps();
-  for (int k = 1; k <= points; ++k) {
-    for (std::uint64_t i = 1; i <= per_point; ++i) {
-      world_.step();
-      // Every 64 steps, not once per curve point: with `curve_points: 1` a point can be days of steps,
-      // and a cancel or a shutdown must still stop the run within a second.
-      if (i % 64 == 0 && i < per_point && !sink.progress((k - 1 + double(i) / per_point) / points)) throw Cancelled();
+  // The slide as one count of steps: a row every per_point steps, a safe point (progress, cancel,
+  // checkpoint) every 64, so that one long curve interval can still be stopped and resumed.
+  std::uint64_t done = 0;
+  if (resume.empty()) {
+    place_at(0);
+    record(0);
+    world_.bodies().velocity[top_] = Vec3(speed, 0, 0);
+  } else {
+    CheckpointReader in(resume);
+    world_.restore(in);
+    in.section("two_cube_sliding");
+    in.value(done);
+    in.values(r.curve);
+    in.finish();
+  }
+  while (done < total) {
+    world_.step();
+    ++done;
+    if (done % per_point == 0) record(world_.bodies().position[top_].x());
+    if (done % 64 != 0 && done % per_point != 0) continue;
+    if (!sink.progress(double(done) / total)) throw Cancelled();
+    if (done < total && sink.checkpoint_due()) {
+      CheckpointWriter out;
+      world_.save(out);
+      out.section("two_cube_sliding");
+      out.value(done);
+      out.values(r.curve);
+      sink.checkpoint(out.finish(), r.curve.size(), 0);
     }
-    record(world_.bodies().position[top_].x());
-    if (!sink.progress(double(k) / points)) throw Cancelled();
   }
 
   r.spacing = s;
@@ -97,7 +113,7 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink) {
   const double approach = d - l * p.prestrain;
   r.contact_end_slide = (l - d + std::sqrt(d * d - approach * approach)) / l;
   r.run = world_.run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  r.run.steps = world_.steps() - first_step;
+  r.run.steps = total;
   return r;
 }
 

@@ -49,10 +49,10 @@ Workload TwoCubeSlidingExperiment::workload() const {
   return w;
 }
 
-std::unique_ptr<ExperimentResult> TwoCubeSlidingExperiment::run(ResultSink& sink) const {
+std::unique_ptr<ExperimentResult> TwoCubeSlidingExperiment::run(ResultSink& sink, const std::string& resume) const {
   auto out = std::make_unique<TwoCubeSummary>();
   TwoCubeSliding experiment(params);
-  out->r = experiment.run(sink);
+  out->r = experiment.run(sink, resume);
   return out;
 }
 

@@ -1,0 +1,125 @@
+// Checkpoints: a run interrupted at any safe point and resumed from its last checkpoint gives, byte
+// for byte, the curve and snapshots of an uninterrupted run, for every registered experiment; a
+// checkpoint of another spec, or a damaged one, is refused.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "api/runner.h"
+#include "api/spec.h"
+#include "engine/core/checkpoint.h"
+#include "engine/experiments/registry.h"
+
+namespace granulab::api {
+namespace {
+
+// Short runs with several safe points in every phase (two_cube: every 64 steps; the crystal: every
+// confinement check and every 100 compression steps).
+const std::map<std::string, std::string> kSpecs = {
+    {"two_cube_sliding", R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
+      "loading": {"rate_number": 1e-3}, "output": {"curve_points": 7}})"},
+    {"crystal_compression", R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+      "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3,
+      "max_strain": 2e-3, "rate_number": 2e-5}, "output": {"curve_points": 12, "snapshot_strains": [0, 1e-3, 2e-3]}})"},
+    {"crystal_confinement", R"({"experiment": "crystal_confinement", "grain": {"edge_spheres": 3},
+      "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3}})"},
+};
+
+struct Died {};
+
+// Checkpoints at every safe point; after checkpoint number `die_after` (1-based; 0 = never) it lets
+// `linger` more safe points pass, making rows the checkpoint does not cover, then "dies".
+class DyingSink : public MemorySink {
+ public:
+  DyingSink(int die_after, int linger) : die_after_(die_after), linger_(linger) {}
+  bool checkpoint_due() override {
+    if (taken_ >= die_after_ && die_after_ > 0 && linger_-- <= 0) throw Died();
+    return true;
+  }
+  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override {
+    last = Resume{state, rows, snapshots};
+    ++taken_;
+  }
+  std::optional<Resume> last;
+  int taken_ = 0;
+
+ private:
+  int die_after_, linger_;
+};
+
+std::string snapshots_text(const MemorySink& s) {
+  std::string out;
+  for (const auto& [strain, json] : s.snapshots_) out += std::to_string(strain) + json.dump() + "\n";
+  return out;
+}
+
+TEST(Checkpoints, ResumedRunsAreBitIdenticalToUninterruptedOnes) {
+  for (const ExperimentType& t : experiment_types()) {
+    SCOPED_TRACE(t.name);
+    ASSERT_TRUE(kSpecs.count(t.name)) << "add a short spec for the new experiment here";
+    const Spec spec = parse_spec_text(kSpecs.at(t.name));
+    DyingSink whole(0, 0);
+    run(spec, whole);
+    const int safe_points = whole.taken_;
+    ASSERT_GE(safe_points, 4);
+    if (whole.summary_.contains("compression_steps"))  // the last interruption falls in the compression
+      ASSERT_GE(whole.summary_.at("compression_steps").get<double>(), 300);
+    // Die after the first, a middle and the last checkpoint, each time a few safe points later; resume
+    // (twice in a row for the middle one: a resumed run is itself interrupted and resumed).
+    for (const int die_after : {1, safe_points / 2, safe_points - 2}) {
+      SCOPED_TRACE("died after checkpoint " + std::to_string(die_after) + " of " + std::to_string(safe_points));
+      DyingSink first(die_after, 1);
+      EXPECT_THROW(run(spec, first), Died);
+      ASSERT_TRUE(first.last);
+      Resume from = *first.last;
+      DyingSink resumed(die_after == safe_points / 2 ? 1 : 0, 1);
+      resumed.curve_csv_ = first.curve_csv_;  // what the interrupted run left, rows past the checkpoint included
+      resumed.snapshots_ = first.snapshots_;
+      if (die_after == safe_points / 2) {
+        EXPECT_THROW(run(spec, resumed, &from), Died);
+        from = *resumed.last;
+        DyingSink again(0, 0);
+        again.curve_csv_ = resumed.curve_csv_;
+        again.snapshots_ = resumed.snapshots_;
+        run(spec, again, &from);
+        EXPECT_EQ(again.curve_csv_, whole.curve_csv_);
+        EXPECT_EQ(snapshots_text(again), snapshots_text(whole));
+        EXPECT_EQ(again.summary_.at("steps"), whole.summary_.at("steps"));
+        continue;
+      }
+      run(spec, resumed, &from);
+      EXPECT_EQ(resumed.curve_csv_, whole.curve_csv_);
+      EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
+      EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
+      if (whole.summary_.contains("first_yield"))
+        EXPECT_EQ(resumed.summary_.at("first_yield"), whole.summary_.at("first_yield"));
+    }
+  }
+}
+
+TEST(Checkpoints, AnotherSpecsOrADamagedCheckpointIsRefused) {
+  const Spec spec = parse_spec_text(kSpecs.at("crystal_compression"));
+  DyingSink first(1, 0);
+  EXPECT_THROW(run(spec, first), Died);
+  ASSERT_TRUE(first.last);
+
+  nlohmann::json bigger = nlohmann::json::parse(kSpecs.at("crystal_compression"));
+  bigger["crystal"]["grains_x"] = 3;
+  MemorySink other;
+  EXPECT_THROW(run(parse_spec(bigger), other, &*first.last), CheckpointError);
+
+  Resume damaged = *first.last;
+  damaged.state[damaged.state.size() / 2] ^= 0x01;
+  MemorySink sink;
+  EXPECT_THROW(run(spec, sink, &damaged), CheckpointError);
+  Resume cut = *first.last;
+  cut.state.resize(cut.state.size() - 100);
+  EXPECT_THROW(run(spec, sink, &cut), CheckpointError);
+  EXPECT_THROW(unpack_resume("short"), CheckpointError);
+  EXPECT_EQ(unpack_resume(pack_resume(*first.last)).rows, first.last->rows);
+}
+
+}  // namespace
+}  // namespace granulab::api
