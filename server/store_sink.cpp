@@ -39,7 +39,8 @@ void StoreSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
 }
 
 bool StoreSink::checkpoint_due() {
-  return checkpoint_seconds_ > 0 && seconds_since(last_checkpoint_) >= checkpoint_seconds_;
+  if (checkpoint_seconds_ <= 0) return false;
+  return stopping_ || seconds_since(last_checkpoint_) >= checkpoint_seconds_;
 }
 
 void StoreSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
@@ -52,6 +53,7 @@ void StoreSink::checkpoint(const std::string& state, std::size_t rows, std::size
   flush_seconds_total_ += seconds_since(t);
   ++checkpoints_;
   last_checkpoint_ = last_flush_ = std::chrono::steady_clock::now();
+  if (stopping_) throw Interrupted();  // the shutdown's last checkpoint is stored: stop now
 }
 
 void StoreSink::curve_row(const std::vector<double>& values) {
@@ -76,7 +78,15 @@ void StoreSink::flush() {
 }
 
 bool StoreSink::progress(double fraction) {
-  if (stopping_) throw Interrupted();
+  if (stopping_) {
+    // Shutdown: the run goes on to its next safe point (the same loop iteration in every experiment)
+    // to store a last checkpoint, then stops; without checkpoints, or if none comes within half a
+    // second, it stops here and resumes from the previous one.
+    if (checkpoint_seconds_ <= 0) throw Interrupted();
+    if (!stop_seen_) stop_seen_ = std::chrono::steady_clock::now();
+    if (seconds_since(*stop_seen_) > 0.5) throw Interrupted();
+    return true;
+  }
   if (seconds_since(last_flush_) < flush_seconds_) return true;
   flush();
   last_flush_ = std::chrono::steady_clock::now();

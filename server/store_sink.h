@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,8 @@ class StoreSink : public api::JobSink {
   void begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) override;
   void curve_row(const std::vector<double>& values) override;
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
-  /// Throws Interrupted on shutdown; flushes, stores progress and an ETA and returns false on a
+  /// On shutdown: lets the run reach its next safe point (a checkpoint is due there), then throws
+  /// Interrupted, within half a second either way. Otherwise flushes, stores progress and an ETA and returns false on a
   /// cancel request, at most every flush_seconds.
   bool progress(double fraction) override;
   bool checkpoint_due() override;
@@ -56,6 +58,7 @@ class StoreSink : public api::JobSink {
   std::string engine_version_;
   std::size_t checkpoints_ = 0;
   std::chrono::steady_clock::time_point last_checkpoint_;
+  std::optional<std::chrono::steady_clock::time_point> stop_seen_;  ///< when progress first saw the shutdown
   std::vector<CurveColumn> columns_;
   std::string curve_csv_;                  // the whole curve, for the final store
   std::vector<std::string> pending_rows_;  // not yet in the store

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <regex>
 #include <sstream>
@@ -96,7 +97,9 @@ class CliTest : public ::testing::Test {
 
   /// Runs build/granulab with `args`; stdout and stderr go to files in the scratch directory.
   /// A run that takes longer than `timeout` is killed (exit_code -1), so a hang fails instead of blocking.
-  RunResult run(const std::vector<std::string>& args, std::chrono::seconds timeout = std::chrono::seconds(30)) {
+  /// `kill_when`: polled while it runs; when it returns true the process gets SIGKILL (exit_code -1).
+  RunResult run(const std::vector<std::string>& args, std::chrono::seconds timeout = std::chrono::seconds(30),
+                const std::function<bool()>& kill_when = nullptr) {
     const fs::path out_path = dir_ / "stdout.txt", err_path = dir_ / "stderr.txt";
     std::vector<std::string> full{kBinary};
     full.insert(full.end(), args.begin(), args.end());
@@ -125,6 +128,11 @@ class CliTest : public ::testing::Test {
     for (;;) {
       const pid_t done = ::waitpid(pid, &status, WNOHANG);
       if (done == pid) break;
+      if (kill_when && kill_when()) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        break;
+      }
       if (std::chrono::steady_clock::now() > deadline) {
         ::kill(pid, SIGKILL);
         ::waitpid(pid, &status, 0);
@@ -262,6 +270,45 @@ TEST_F(CliTest, CrystalRunWritesCurveSummaryAndSnapshotFiles) {
     EXPECT_EQ(slurp(out / "snapshots" / (stem + "_grains.vtk")).rfind("# vtk DataFile", 0), 0u);
     EXPECT_NE(slurp(out / "snapshots" / (stem + "_interfaces.vtk")).find("LINES"), std::string::npos);
   }
+}
+
+// kill -9 in the middle of a crystal run that checkpoints every second, then --resume: curve.csv and every
+// snapshot file are byte for byte those of an uninterrupted run.
+TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
+  const fs::path spec = spec_file(R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+    "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
+    "loading": {"confining_pressure": 30e3, "max_strain": 0.02, "rate_number": 2e-6},
+    "output": {"curve_points": 100, "snapshot_strains": [0.0, 0.01, 0.02]}})");
+  const std::string whole = (dir_ / "whole").string(), out = (dir_ / "out").string(), cdir = (dir_ / "ck").string();
+  ASSERT_EQ(run({"run", spec.string(), "--out", whole, "--threads", "1", "--quiet"}, std::chrono::seconds(120)).exit_code, 0);
+  // Killed once a checkpoint exists and the curve has moved past it.
+  const auto checkpointed = [&] {
+    if (!fs::exists(cdir) || fs::is_empty(cdir)) return false;
+    return lines_of(slurp(fs::path(out) / "curve.csv")).size() > 40;
+  };
+  const RunResult killed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir,
+                                "--checkpoint-seconds", "1"},
+                               std::chrono::seconds(120), checkpointed);
+  ASSERT_EQ(killed.exit_code, -1) << "the run ended before it could be killed: " << killed.err;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "summary.json"));
+  const RunResult resumed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir,
+                                 "--resume"},
+                                std::chrono::seconds(120));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("resuming from"), std::string::npos) << resumed.err;
+  EXPECT_EQ(slurp(fs::path(out) / "curve.csv"), slurp(fs::path(whole) / "curve.csv"));
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(whole) / "snapshots")) {
+    EXPECT_EQ(slurp(fs::path(out) / "snapshots" / entry.path().filename()), slurp(entry.path())) << entry.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 12);  // 3 snapshots x 4 files
+  EXPECT_TRUE(fs::is_empty(cdir));  // a finished run's checkpoint is removed
+  // --resume without a checkpoint starts from zero, with a warning.
+  const RunResult fresh = run({"run", spec.string(), "--out", (dir_ / "fresh").string(), "--quiet", "--checkpoint-dir",
+                               cdir, "--resume"}, std::chrono::seconds(120));
+  EXPECT_EQ(fresh.exit_code, 0);
+  EXPECT_NE(fresh.err.find("starting from zero"), std::string::npos) << fresh.err;
 }
 
 TEST_F(CliTest, QuietSuppressesProgress) {

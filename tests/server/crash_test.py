@@ -22,8 +22,8 @@ sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
 from granulab_client import Client  # noqa: E402
 
 DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
-# About a second of work each at N_e = 4: long enough to be caught running by the kill.
-SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 2e-5},
+# About 1.5 s of work each at N_e = 4: long enough to be caught running by the kill, and checkpointed.
+SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-5},
         "output": {"curve_points": 20}}
 
 
@@ -34,9 +34,9 @@ def free_port():
 
 
 class CrashTest(unittest.TestCase):
-    def start(self):
-        proc = subprocess.Popen([DAEMON, "--port", str(self.port), "--db", self.db, "--workers", "1", "--threads", "1"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    def start(self, *extra):
+        proc = subprocess.Popen([DAEMON, "--port", str(self.port), "--db", self.db, "--workers", "1", "--threads", "1",
+                                 *extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         deadline = time.time() + 20
         while time.time() < deadline:
             try:
@@ -106,10 +106,11 @@ class CrashTest(unittest.TestCase):
         ids = []
         kills_while_running = 0
         for cycle in range(30):
-            self.proc = self.start()
+            # Checkpoints every second, so kills also land during checkpoint writes and resumed runs.
+            self.proc = self.start("--checkpoint-seconds", "1")
             if cycle < 12:
                 ids.append(self.client.submit(SPEC))
-            time.sleep(rng.uniform(0.0, 0.8))
+            time.sleep(rng.uniform(0.0, 1.5))
             if any(j["status"] == "running" for j in self.client.list(limit=100)):
                 kills_while_running += 1
             self.proc.send_signal(signal.SIGKILL)
@@ -118,6 +119,9 @@ class CrashTest(unittest.TestCase):
         for job_id in ids:
             self.assertEqual(self.client.wait(job_id, timeout=300)["status"], "succeeded")
         self.assertGreaterEqual(kills_while_running, 10)
+        with sqlite3.connect(self.db) as db:
+            resumed = db.execute("SELECT count(*) FROM events WHERE kind = 'resumed'").fetchone()[0]
+        self.assertGreater(resumed, 0, "no job resumed from a checkpoint")
         self.proc.send_signal(signal.SIGTERM)
         self.assertEqual(self.proc.wait(timeout=30), 0)
         with sqlite3.connect(self.db) as db:
@@ -139,8 +143,54 @@ class CrashTest(unittest.TestCase):
             direct = f.read()
         for job_id in ids:
             self.assertEqual(self.client.curve_csv(job_id), direct, f"job {job_id}")
-        print(f"crash loop: 30 kills ({kills_while_running} with a job running), {len(ids)} jobs, "
-              "each succeeded once, integrity ok, curves equal a direct run", file=sys.stderr)
+        print(f"crash loop: 30 kills ({kills_while_running} with a job running, {resumed} resumptions from a "
+              f"checkpoint), {len(ids)} jobs, each succeeded once, integrity ok, curves equal a direct run",
+              file=sys.stderr)
+
+    def direct_curve(self, spec):
+        direct_dir = os.path.join(self.dir, "direct")
+        spec_path = os.path.join(self.dir, "direct_spec.json")
+        with open(spec_path, "w") as f:
+            json.dump(spec, f)
+        cli = os.path.join(os.path.dirname(DAEMON), "granulab")
+        subprocess.run([cli, "run", spec_path, "--out", direct_dir, "--threads", "1", "--quiet"], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(os.path.join(direct_dir, "curve.csv")) as f:
+            return f.read()
+
+    def test_a_long_job_resumes_from_its_checkpoint(self):
+        """kill -9 and then SIGTERM in the middle of a ~6 s job with a checkpoint every second: each restart
+        resumes it from its last checkpoint (not from zero), and its curve equals a direct run's byte for byte."""
+        spec = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 3e-6},
+                "output": {"curve_points": 40}}
+        self.proc = self.start("--checkpoint-seconds", "1")
+        job = self.client.submit(spec)
+        for stop in (signal.SIGKILL, signal.SIGTERM):
+            deadline = time.time() + 60
+            while time.time() < deadline and self.client.status(job)["progress"] < (0.3 if stop == signal.SIGKILL else 0.6):
+                time.sleep(0.05)
+            progress = self.client.status(job)["progress"]
+            self.proc.send_signal(stop)
+            self.proc.wait(timeout=30)
+            with sqlite3.connect(self.db) as db:
+                (rows,) = db.execute("SELECT rows FROM checkpoints WHERE job_id = ?", (job,)).fetchone()
+            self.assertGreater(rows, 0, "no checkpoint was stored")
+            if stop == signal.SIGTERM:  # a last checkpoint is taken at the stop itself
+                self.assertGreaterEqual(rows, int(progress * 40))
+            self.proc = self.start("--checkpoint-seconds", "1")
+            # It goes on from the checkpoint: the rows up to it are kept, not recomputed from zero.
+            deadline = time.time() + 30
+            while self.client.status(job)["status"] != "running" and time.time() < deadline:
+                time.sleep(0.02)
+            self.assertGreaterEqual(len(self.client.curve(job)["slide_over_size"]), rows)
+            print(f"stopped at progress {progress:.2f} by signal {stop}; resumed after {rows} of 41 rows",
+                  file=sys.stderr)
+        self.assertEqual(self.client.wait(job, timeout=120)["status"], "succeeded")
+        self.assertEqual(self.client.curve_csv(job), self.direct_curve(spec))
+        with sqlite3.connect(self.db) as db:
+            kinds = [k for (k,) in db.execute("SELECT kind FROM events WHERE job_id = ?", (job,))]
+            self.assertEqual(kinds.count("resumed"), 2)
+            self.assertEqual(db.execute("SELECT count(*) FROM checkpoints").fetchone()[0], 0)  # dropped when done
 
     def test_one_daemon_per_database_and_per_port(self):
         self.proc = self.start()
