@@ -24,6 +24,11 @@ class BoundedBuilder : public nlohmann::json_sax<json> {
   bool start_object(std::size_t) override { return open(json::object()); }
   bool key(string_t& k) override {
     path_.back().key = k;
+    // A key given twice: which one counts would be a guess (nlohmann keeps the last, others the first).
+    if (path_.back().node->contains(k)) {
+      error_ = SpecError("duplicate_field", field(), "'" + field() + "' is given twice");
+      return false;
+    }
     return true;
   }
   bool end_object() override { return close(); }

@@ -68,6 +68,22 @@ TEST(SpecDefaults, NullValuesMeanTheDefault) {
   EXPECT_EQ(spec.normalized, parse_spec_text("{}").normalized);
 }
 
+// A key given twice is refused (which one would count is a guess), naming it, at any depth.
+TEST(SpecErrors, DuplicateKeysAreRefusedNamingTheField) {
+  for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"grain": {"edge_spheres": 3, "edge_spheres": 4}})", "grain.edge_spheres"},
+           {R"({"label": "a", "label": "a"})", "label"},
+           {R"({"grain": {}, "grain": {}})", "grain"}}) {
+    try {
+      parse_spec_text(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const SpecError& e) {
+      EXPECT_EQ(e.code, "duplicate_field") << text;
+      EXPECT_EQ(e.field, field) << text;
+    }
+  }
+}
+
 TEST(SpecDefaults, ExplicitValuesAreTaken) {
   const Spec spec = parse_spec_text(R"({"label": "run A",
       "grain": {"size": 0.02, "edge_spheres": 12.0, "overlap": 0.5},
