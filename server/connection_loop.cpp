@@ -31,7 +31,6 @@ const char* reason(int status) {
     case 413: return "Payload Too Large";
     case 417: return "Expectation Failed";
     case 431: return "Request Header Fields Too Large";
-    case 501: return "Not Implemented";
     case 503: return "Service Unavailable";
     default: return "Error";
   }

@@ -116,7 +116,8 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
       content_length_ = length;
     } else if (name == "transfer-encoding") {
       if (lower(value) != "chunked")
-        return reject(501, "not_implemented", "only 'Transfer-Encoding: chunked' is supported, got '" + value + "'");
+        // 400, not 501: a request the server cannot read is the client's to fix, and no 5xx is the rule.
+        return reject(400, "bad_request", "only 'Transfer-Encoding: chunked' is supported, got '" + value + "'");
       chunked_ = true;
     } else if (name == "expect") {
       if (lower(value) != "100-continue")

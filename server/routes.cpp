@@ -323,6 +323,7 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
     if (res.status == 413) error(res, 413, "too_large", "request body too large");
     else if (res.status == 404) error(res, 404, "not_found", "no such route");
     else if (res.status == 400) error(res, 400, "bad_request", "malformed request");
+    else if (res.status == 414) error(res, 414, "uri_too_long", "the request's path and query are longer than 8 KiB");
     else error(res, res.status, "http_error", "request failed with HTTP " + std::to_string(res.status));
   });
   routes();
@@ -372,6 +373,8 @@ void HttpServer::routes() {
     } catch (const api::SpecError& e) {
       return error(res, 400, e.code, e.what(), e.field);
     }
+    long priority = 0;
+    if (!query_int(req, res, "priority", -100, 100, priority)) return;
     if (!within_budget(spec, res)) return;
     const std::string hash = api::spec_hash(spec.normalized);
     const std::string experiment = spec.normalized["experiment"].get<std::string>();
@@ -379,8 +382,6 @@ void HttpServer::routes() {
       if (const auto id = store_.find_succeeded(hash, api::engine_version()))
         return reply(res, 200, {{"id", *id}, {"status", "succeeded"}, {"reused", true}});
     }
-    long priority = 0;
-    if (!query_int(req, res, "priority", -100, 100, priority)) return;
     const User who = caller(req).value_or(User{});
     if (options_.max_queued_per_user > 0 && store_.count("queued", who.name) >= std::size_t(options_.max_queued_per_user))
       return error(res, 429, "quota",
