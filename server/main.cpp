@@ -27,11 +27,13 @@ const char* kUsage =
     "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
     "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
-    "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S]\n"
+    "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S] [--max-db-mb MB]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
     "            --keep-alive-timeout 5 --max-connections 512\n"
     "            --max-memory (half the physical memory, in MB) --max-sphere-steps 1e13 --checkpoint-seconds 60\n"
+    "  --max-db-mb: the database file may not grow past this (default: the disk's space); past it, or on a\n"
+    "               full disk, submissions answer 507 and running jobs fail with the reason\n"
     "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
     "                        from there (0: never, jobs restart from zero)\n"
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
@@ -49,7 +51,7 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
   std::string host = "127.0.0.1", db = "var/granulab.db", token_file;
-  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60;
+  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
   HttpOptions options;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
@@ -75,6 +77,7 @@ int main(int argc, char** argv) {
       else if (a == "--max-running-per-user") max_running_per_user = parse_int_option(a, v, 0, 1000000);
       else if (a == "--request-timeout") options.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
       else if (a == "--keep-alive-timeout") options.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+      else if (a == "--max-db-mb") max_db_mb = parse_int_option(a, v, 1, 100000000);
       else if (a == "--checkpoint-seconds") checkpoint_seconds = parse_int_option(a, v, 0, 86400);
       else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
       else if (a == "--max-memory") options.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
@@ -97,11 +100,16 @@ int main(int argc, char** argv) {
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-    if (db != ":memory:" && std::filesystem::path(db).has_parent_path())
-      std::filesystem::create_directories(std::filesystem::path(db).parent_path());
+    if (db != ":memory:" && std::filesystem::path(db).has_parent_path()) {
+      std::error_code ec;
+      std::filesystem::create_directories(std::filesystem::path(db).parent_path(), ec);
+      if (ec)
+        throw std::runtime_error("cannot create the database folder '" + std::filesystem::path(db).parent_path().string() +
+                                 "': " + ec.message());
+    }
     std::optional<InstanceLock> lock;
     if (db != ":memory:") lock.emplace(db);
-    JobStore store(db);
+    JobStore store(db, std::int64_t(max_db_mb) * 1000000);
     const std::size_t requeued = store.requeue_running();
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
     WorkerPool pool(store, workers, threads);

@@ -20,6 +20,7 @@
 #include "api/runner.h"
 #include "api/spec.h"
 #include "api/spec_docs.h"
+#include "server/store/sqlite.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -310,8 +311,18 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
     }
     static std::atomic<std::uint64_t> next_error{1};
     const std::string id = "e" + std::to_string(next_error++);
-    spdlog::error("{} {} -> 500 ({}): {}", req.method, req.path, id, what);
+    bool full = false;
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const sqlite::StoreFull&) {
+      full = true;
+    } catch (...) {
+    }
+    spdlog::error("{} {} -> {} ({}): {}", req.method, req.path, full ? 507 : 500, id, what);
     res.set_header("X-Request-Id", id);
+    if (full)
+      return error(res, 507, "storage_full",
+                   "the server's storage is full (its disk, or --max-db-mb): nothing was stored; tell its administrator");
     error(res, 500, "internal", "internal error; the server's log has it under request id " + id);
   });
   http_->set_logger([](const httplib::Request& req, const httplib::Response& res) {

@@ -10,6 +10,7 @@
 #include "api/engine_version.h"
 #include "api/runner.h"
 #include "engine/core/checkpoint.h"
+#include "server/store/sqlite.h"
 #include "server/store_sink.h"
 
 namespace granulab::server {
@@ -93,6 +94,11 @@ void WorkerPool::run_job(const JobRecord& job) {
     keep_partial_results(sink, job.id);
     record_end(job.id, [&] { store_.mark_cancelled(job.id); });
     spdlog::info("job {} cancelled", job.id);
+  } catch (const sqlite::StoreFull& e) {
+    const std::string reason = std::string("the server's storage is full (its disk, or --max-db-mb): ") + e.what() +
+                               "; what was stored before is kept";
+    record_end(job.id, [&] { store_.fail(job.id, reason); });
+    spdlog::error("job {} failed: {}", job.id, reason);
   } catch (const std::exception& e) {
     keep_partial_results(sink, job.id);
     const std::string reason = e.what();

@@ -51,7 +51,15 @@ JobRecord read_job(const Statement& st) {
 
 }  // namespace
 
-JobStore::JobStore(const std::string& path) : db_(std::make_unique<sqlite::Database>(path)) { migrate(*db_); }
+JobStore::JobStore(const std::string& path, std::int64_t max_bytes) : db_(std::make_unique<sqlite::Database>(path)) {
+  migrate(*db_);
+  if (max_bytes > 0) {
+    // SQLite refuses to grow the file past max_page_count pages (SQLITE_FULL, as on a full disk).
+    sqlite::Statement size(*db_, "PRAGMA page_size");
+    const std::int64_t page = size.step() ? size.column_int64(0) : 4096;
+    db_->exec("PRAGMA max_page_count = " + std::to_string(std::max<std::int64_t>(1, max_bytes / page)));
+  }
+}
 
 JobStore::~JobStore() = default;
 

@@ -62,7 +62,9 @@ class JobStore {
 
   /// Opens or creates the database at `path` (":memory:" allowed) and brings its schema up to date.
   /// The parent directory must exist.
-  explicit JobStore(const std::string& path);
+  /// `max_bytes` > 0: the file may not grow past it; writes beyond fail with sqlite::StoreFull, as on a
+  /// full disk (granulabd --max-db-mb).
+  explicit JobStore(const std::string& path, std::int64_t max_bytes = 0);
   ~JobStore();
   JobStore(const JobStore&) = delete;
   JobStore& operator=(const JobStore&) = delete;

@@ -53,6 +53,7 @@ void Database::exec(const std::string& sql) {
   if (rc != SQLITE_OK) {
     std::string text = message ? message : sqlite3_errstr(rc);
     sqlite3_free(message);
+    if ((rc & 0xff) == SQLITE_FULL) throw StoreFull("sqlite: " + text);
     throw std::runtime_error("sqlite: " + text + " (in: " + sql.substr(0, 120) + ")");
   }
 }
@@ -119,6 +120,7 @@ bool Statement::step() {
   // The message must be read before reset(), which would replace it.
   const std::string message = std::string("sqlite: step '") + sql_ + "': " + sqlite3_errmsg(db_.handle());
   sqlite3_reset(stmt_);
+  if ((rc & 0xff) == SQLITE_FULL) throw StoreFull(std::string("sqlite: ") + sqlite3_errstr(rc));
   throw std::runtime_error(message);
 }
 

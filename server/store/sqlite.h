@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,12 @@ struct sqlite3;
 struct sqlite3_stmt;
 
 namespace granulab::server::sqlite {
+
+/// The database cannot grow: the disk is full, or the file reached the size it may have
+/// (JobStore's max_bytes). Writes fail with this, so callers can say so instead of "internal error".
+struct StoreFull : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class Database {
  public:

@@ -192,6 +192,43 @@ class CrashTest(unittest.TestCase):
             self.assertEqual(kinds.count("resumed"), 2)
             self.assertEqual(db.execute("SELECT count(*) FROM checkpoints").fetchone()[0], 0)  # dropped when done
 
+    def test_a_full_store_fails_the_job_with_the_reason_and_nothing_crashes(self):
+        """--max-db-mb 1 stands for a full disk: a job whose snapshots do not fit fails with the reason, further
+        submissions answer 507 storage_full (or are taken while pages remain), the daemon stays up, the file is
+        intact, and after a restart with room the stored jobs are all there."""
+        self.proc = self.start("--max-db-mb", "1", "--max-queued-per-user", "100000")
+        big = {"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+               "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
+               "loading": {"confining_pressure": 30e3, "max_strain": 0.01, "rate_number": 1e-4},
+               "output": {"curve_points": 50, "snapshot_strains": [k * 0.01 / 400 for k in range(401)]}}
+        job = self.client.submit(big)
+        try:
+            final = self.client.wait(job, timeout=120)
+        except Exception as e:  # wait() raises for a job that did not succeed
+            final = self.client.status(job)
+        self.assertEqual(final["status"], "failed")
+        self.assertIn("full", final["error"])
+        statuses = set()
+        for _ in range(5000):  # until the file is full: about 1,500 jobs
+            try:
+                self.client.submit(dict(SPEC, label="x" * 200))
+                statuses.add(201)
+            except Exception as e:
+                statuses.add(getattr(e, "status", 0))
+                if getattr(e, "status", 0) == 507:
+                    self.assertEqual(e.code, "storage_full")
+                    break
+        self.assertEqual(statuses, {201, 507})
+        self.assertEqual(self.client.health()["status"], "ok")
+        self.proc.send_signal(signal.SIGTERM)
+        self.assertEqual(self.proc.wait(timeout=30), 0)
+        with sqlite3.connect(self.db) as db:
+            self.assertEqual(db.execute("PRAGMA integrity_check").fetchone()[0], "ok")
+        self.proc = self.start()
+        self.assertEqual(self.client.status(job)["status"], "failed")
+        print(f"full store: the job failed with '{final['error'][:80]}', submissions answered {sorted(statuses)}",
+              file=sys.stderr)
+
     def test_one_daemon_per_database_and_per_port(self):
         self.proc = self.start()
         second = subprocess.run([DAEMON, "--port", str(free_port()), "--db", self.db], capture_output=True, text=True,
