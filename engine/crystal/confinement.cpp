@@ -54,21 +54,24 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);
     }
     world.step();
-    if ((world.steps() - start) % p.membrane_interval != 0) continue;
-    sample.check_finite();
-    sample.update_membrane();
-    const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
-    const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
-                          std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
-    const bool quiet = ke <= p.kinetic_tolerance * ee;
-    good = walls_ok && quiet ? good + 1 : 0;
-    if (on_check) on_check(world.steps() - start);
+    if ((world.steps() - start) % p.membrane_interval == 0) {
+      sample.check_finite();
+      sample.update_membrane();
+      const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
+      const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
+                            std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
+      const bool quiet = ke <= p.kinetic_tolerance * ee;
+      good = walls_ok && quiet ? good + 1 : 0;
+      if (on_check) on_check(world.steps() - start);
+      if (good >= p.equilibrium_checks) {
+        r.converged = true;
+        break;
+      }
+    }
+    // Every step (milliseconds to a second on a crystal): a cancel or a shutdown is seen at once, and a
+    // checkpoint may be taken; the whole state is the world and `s`.
     const double servo_steps = 20 * servo_time / world.settings().time_step;
     if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
-    if (good >= p.equilibrium_checks) {
-      r.converged = true;
-      break;
-    }
     if (safe_point) safe_point();
   }
   for (Wall& w : world.walls()) w.velocity.setZero();

@@ -42,7 +42,7 @@ struct ConfinementState {
 /// Confines the sample. `progress` gets a fraction that approaches 1 on the servo's time scale (the
 /// length of the phase is not known in advance); returning false stops the run (throws Cancelled).
 /// With `state`, continues from it (a restored sample and state resume a checkpointed confinement) and
-/// calls `safe_point` after each check that did not end the phase: a checkpoint may be taken there.
+/// calls `safe_point` after every step but the last: a checkpoint may be taken there.
 ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress = nullptr,
                           const ConfinementCheck& on_check = nullptr, ConfinementState* state = nullptr,
                           const std::function<void()>& safe_point = nullptr);

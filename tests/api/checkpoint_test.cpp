@@ -3,6 +3,7 @@
 // checkpoint of another spec, or a damaged one, is refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <string>
@@ -68,7 +69,7 @@ TEST(Checkpoints, ResumedRunsAreBitIdenticalToUninterruptedOnes) {
       ASSERT_GE(whole.summary_.at("compression_steps").get<double>(), 300);
     // Die after the first, a middle and the last checkpoint, each time a few safe points later; resume
     // (twice in a row for the middle one: a resumed run is itself interrupted and resumed).
-    for (const int die_after : {1, safe_points / 2, safe_points - 2}) {
+    for (const int die_after : {1, safe_points / 2, std::max(2, safe_points - 150), safe_points - 2}) {
       SCOPED_TRACE("died after checkpoint " + std::to_string(die_after) + " of " + std::to_string(safe_points));
       DyingSink first(die_after, 1);
       EXPECT_THROW(run(spec, first), Died);
