@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
@@ -183,6 +184,7 @@ TEST_F(Connections, IdleAndSlowClientsDoNotStallOthers) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   EXPECT_LT(worst_ms, 100.0) << asked << " health requests";
+  std::printf("32 idle + 32 slow connections: %d health requests, slowest %.2f ms\n", asked, worst_ms);
   // request_timeout is 1 s: every slow sender gets 408 and is closed. (The sending stopped well before,
   // so no byte of ours can cross the server's close and reset the connection.)
   for (auto& s : slow) {
