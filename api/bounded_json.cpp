@@ -108,6 +108,10 @@ class BoundedBuilder : public nlohmann::json_sax<json> {
 }  // namespace
 
 nlohmann::json parse_bounded_json(const std::string& text, std::size_t max_depth) {
+  // nlohmann's lexer takes a NUL byte for the end of the input: `{...}\0garbage` would pass. JSON has no
+  // raw NUL anywhere (inside strings it must be escaped), so one is invalid wherever it is.
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw SpecError("invalid_json", "", "the spec is not valid JSON: a NUL byte at offset " + std::to_string(nul));
   BoundedBuilder builder(max_depth);
   if (!json::sax_parse(text, &builder)) throw builder.error();
   return builder.take();

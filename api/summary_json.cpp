@@ -23,7 +23,10 @@ void JsonSummaryWriter::number(const char* key, double value, const char* unit) 
   units_[path(key)] = unit;
 }
 
-void JsonSummaryWriter::count(const char* key, std::uint64_t value) { slot(key) = value; }
+void JsonSummaryWriter::count(const char* key, std::uint64_t value) {
+  slot(key) = value;
+  units_[path(key)] = "-";  // a count has a unit too: none
+}
 
 void JsonSummaryWriter::flag(const char* key, bool value) { slot(key) = value; }
 

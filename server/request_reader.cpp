@@ -119,6 +119,10 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
         // 400, not 501: a request the server cannot read is the client's to fix, and no 5xx is the rule.
         return reject(400, "bad_request", "only 'Transfer-Encoding: chunked' is supported, got '" + value + "'");
       chunked_ = true;
+    } else if (name == "content-encoding") {
+      // cpp-httplib would inflate a gzip body after the size check: 1 MiB of gzip is a gigabyte of JSON.
+      if (lower(value) != "identity")
+        return reject(415, "unsupported_encoding", "request bodies must not be compressed, got 'Content-Encoding: " + value + "'");
     } else if (name == "expect") {
       if (lower(value) != "100-continue")
         return reject(417, "expectation_failed", "only 'Expect: 100-continue' is supported, got '" + value + "'");

@@ -297,7 +297,8 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
   });
   http_->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
     static std::atomic<std::uint64_t> next{1};
-    res.set_header("X-Request-Id", std::to_string(next++));
+    // A 500 already has its own (the id the log names); headers are a multimap, so never add a second.
+    if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", std::to_string(next++));
   });
   // Nothing a handler throws reaches the framework or the client: a JSON 500 with the request id, and the
   // exception text only in the daemon's log.

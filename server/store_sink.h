@@ -1,6 +1,7 @@
 // The server's JobSink: a running job's curve rows and snapshots go into the store in batches, at most
-// every `flush_seconds` (and at the end), so GET /v1/jobs/{id}/curve serves the rows computed so far and a
-// job that is cancelled, fails or loses its daemon keeps what it computed up to the last batch. Between
+// every `flush_seconds` (and at the end), so GET /v1/jobs/{id}/curve serves the rows computed so far, a
+// job that is cancelled or fails keeps what it computed, and one that loses its daemon keeps what it
+// computed up to its last checkpoint (below) and resumes from there. Between
 // batches the sink only buffers: the engine's loop never waits on SQLite for more than one batch a
 // second. Progress and the cancel flag are exchanged with the store at the same rhythm; `stopping`
 // (the daemon's shutdown) is checked at every progress call. Every `checkpoint_seconds` the experiment's

@@ -159,11 +159,18 @@ int run_remote(int argc, char** argv) {
     fs::create_directories(out / "snapshots");
     const json job = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id));
     save(out / "curve.csv", call(http, a.server, "GET", "/v1/jobs/" + id + "/curve?format=csv"));
-    save(out / "summary.json", job["summary"].dump(2) + "\n");
+    // A job that has not succeeded has no summary: its rows and snapshots so far are still worth having.
+    const bool finished = job.contains("summary");
+    if (finished) save(out / "summary.json", job["summary"].dump(2) + "\n");
     const json snapshots = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id + "/snapshots"));
     for (const json& s : snapshots["snapshots"]) {
       const std::string k = std::to_string(s["index"].get<int>());
       save(out / "snapshots" / ("snapshot_" + k + ".json"), call(http, a.server, "GET", "/v1/jobs/" + id + "/snapshots/" + k));
+    }
+    if (!finished) {
+      std::fprintf(stderr, "job %s is %s: its results so far are in %s (no summary.json)\n", id.c_str(),
+                   job.value("status", "").c_str(), a.out.c_str());
+      return 1;
     }
     std::fprintf(stderr, "results of job %s in %s\n", id.c_str(), a.out.c_str());
     return 0;

@@ -4,6 +4,8 @@
 // what the registry says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -94,6 +96,15 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
     EXPECT_GT(out.summary.at("steps").get<double>(), 0);
     EXPECT_TRUE(out.summary.at("warnings").is_array());
     EXPECT_EQ(out.summary.at("units").at("time_step"), "s");
+    // Rows were streamed: at least two, each with one value per column.
+    const std::size_t columns = parse_spec(doc).experiment->curve_columns().size();
+    std::size_t rows = 0;
+    std::istringstream lines(out.curve_csv);
+    std::string line;
+    std::getline(lines, line);  // the header
+    for (; std::getline(lines, line); ++rows)
+      EXPECT_EQ(std::size_t(std::count(line.begin(), line.end(), ',')) + 1, columns) << line;
+    EXPECT_GE(rows, 2u);
     const std::string header = out.curve_csv.substr(0, out.curve_csv.find('\n'));
     EXPECT_EQ(header + "\n", [&] {
       std::string h;

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "api/curve_format.h"
@@ -66,6 +68,18 @@ TEST(SpecDefaults, EmptyObjectIsTwoCubeSliding) {
 TEST(SpecDefaults, NullValuesMeanTheDefault) {
   const Spec spec = parse_spec_text(R"({"label": null, "grain": null, "material": {"friction": null}})");
   EXPECT_EQ(spec.normalized, parse_spec_text("{}").normalized);
+}
+
+// A NUL byte ends nlohmann's input: a document followed by one and garbage must not pass.
+TEST(SpecErrors, NulBytesAreInvalidJsonWhereverTheyAre) {
+  for (const std::string text : {std::string("{}\0", 3), std::string("{}\0garbage", 10), std::string("{\"label\": \"a\0b\"}", 15)}) {
+    try {
+      parse_spec_text(text);
+      ADD_FAILURE() << "accepted a NUL byte";
+    } catch (const SpecError& e) {
+      EXPECT_EQ(e.code, "invalid_json");
+    }
+  }
 }
 
 // A key given twice is refused (which one would count is a guess), naming it, at any depth.
@@ -480,7 +494,13 @@ TEST(Results, SummaryJsonZeroWallTimeGivesZeroRate) {
   JsonSummaryWriter w;
   write_run_stats(w, r);
   EXPECT_EQ(w.document().at("sphere_steps_per_second").get<double>(), 0.0);
-  EXPECT_FALSE(w.document().dump().empty());  // no inf/NaN that would make the JSON invalid
+  // No inf or NaN anywhere (nlohmann would write them as null, silently).
+  std::function<void(const nlohmann::json&)> finite = [&](const nlohmann::json& j) {
+    if (j.is_number_float()) EXPECT_TRUE(std::isfinite(j.get<double>())) << j;
+    if (j.is_structured())
+      for (const auto& v : j) finite(v);
+  };
+  finite(w.document());
 }
 
 TEST(Results, SummaryJsonListsAndGroups) {
@@ -501,7 +521,8 @@ TEST(Results, SummaryJsonListsAndGroups) {
   w.end_list();
   EXPECT_EQ(w.document(), json::parse(R"({"peak": {"deviator": 5.0}, "snapshots": [{"index": 0, "strain": 0.0},
       {"index": 1, "strain": 0.01}], "warnings": ["a sentence"]})"));
-  EXPECT_EQ(w.units(), json::parse(R"({"peak.deviator": "Pa", "snapshots[].strain": "-"})"));
+  // Counts have a unit too ("-"): every number in a summary has one.
+  EXPECT_EQ(w.units(), json::parse(R"({"peak.deviator": "Pa", "snapshots[].index": "-", "snapshots[].strain": "-"})"));
 }
 
 }  // namespace

@@ -83,6 +83,9 @@ TEST_F(Daemon, CrystalJobStoresSnapshots) {
   EXPECT_EQ(s1["grains"]["id"].size(), 16u);
   EXPECT_NEAR(s1["strain"].get<double>(), 2e-4, 1e-12);
   get("/v1/jobs/" + std::to_string(id) + "/snapshots/7", 404);
+  // 2^32 and 2^32 + 1 are not snapshots 0 and 1 (an index cast to 32 bits would wrap onto them).
+  get("/v1/jobs/" + std::to_string(id) + "/snapshots/4294967296", 404);
+  get("/v1/jobs/" + std::to_string(id) + "/snapshots/4294967297", 404);
   // The same as running the spec directly (the engine gives the same answer for any thread count).
   const api::RunOutput direct = api::run_spec(api::parse_spec_text(kCrystal));
   auto csv = client_->Get(("/v1/jobs/" + std::to_string(id) + "/curve?format=csv").c_str());
@@ -255,6 +258,18 @@ TEST_F(Daemon, CliRemoteCommands) {
   EXPECT_NE(out.find("409"), std::string::npos) << out;
   std::tie(code, out) = shell(cli + " delete " + std::to_string(id) + server);
   EXPECT_EQ(code, 0) << out;
+  // The results of a job that did not succeed: what it computed, no summary, exit 1 saying why.
+  const std::int64_t cancelled = post("/v1/jobs", R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
+    "loading": {"rate_number": 1e-8}, "output": {"curve_points": 1}})", 201)["id"];
+  for (int k = 0; k < 500 && get("/v1/jobs/" + std::to_string(cancelled))["status"] != "running"; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  post("/v1/jobs/" + std::to_string(cancelled) + "/cancel", "", 202);
+  ASSERT_EQ(wait(cancelled, 5)["status"], "cancelled");
+  std::tie(code, out) = shell(cli + " results " + std::to_string(cancelled) + " --out " + (dir_ / "partial").string() + server);
+  EXPECT_EQ(code, 1) << out;
+  EXPECT_NE(out.find("is cancelled"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir_ / "partial" / "curve.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "partial" / "summary.json"));
   std::tie(code, out) = shell(cli + " status " + std::to_string(id) + server);
   EXPECT_NE(out.find("404"), std::string::npos) << out;
 }

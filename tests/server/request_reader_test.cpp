@@ -81,6 +81,7 @@ TEST(RequestReader, LimitsAreRejectionsNamingThem) {
       {"POST / HTTP/1.1\r\nContent-Length: 2\r\nContent-Length: 3\r\n\r\n", 400, "two different"},
       {"POST / HTTP/1.1\r\nContent-Length: -1\r\n\r\n", 400, "number of bytes"},
       {"POST / HTTP/1.1\r\nExpect: something\r\n\r\n", 417, "100-continue"},
+      {"POST / HTTP/1.1\r\nContent-Encoding: gzip\r\nContent-Length: 2\r\n\r\n", 415, "compressed"},
       {"GET / HTTP/1.1\r\nno colon here\r\n\r\n", 400, "header line"},
   };
   for (const Case& c : cases) {
