@@ -75,7 +75,7 @@ void FilesSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
 }
 
 bool FilesSink::checkpoint_due() {
-  return !checkpoint_file_.empty() &&
+  return !checkpoint_file_.empty() && checkpoint_seconds_ > 0 &&  // 0 = never, as for granulabd
          std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >= checkpoint_seconds_;
 }
 

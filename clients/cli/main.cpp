@@ -40,7 +40,7 @@ const char* kUsage =
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
     "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
-    "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60); --resume continues\n"
+    "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60, 0 = never); --resume continues\n"
     "a killed run of the same spec from there, bit for bit (no checkpoint yet: it starts from zero).\n"
     "The spec's fields: docs/spec.md or `granulab experiments --markdown` (every field has a default).\n";
 
