@@ -1,5 +1,7 @@
 #include "api/object_reader.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <sstream>
 
@@ -98,7 +100,10 @@ std::string ObjectReader::text(const std::string& key, const std::string& fallba
     if (!j->is_string()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a string, got " + type_name(*j));
     v = j->get<std::string>();
   }
-  if (v.size() > max_length)
+  // Characters, not bytes: "é" is one (the parser has already checked the UTF-8; continuation bytes are
+  // 10xxxxxx).
+  const auto characters = std::count_if(v.begin(), v.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
+  if (std::size_t(characters) > max_length)
     throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be at most " + std::to_string(max_length) + " characters");
   normalized_[key] = v;
   return v;

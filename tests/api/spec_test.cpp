@@ -82,6 +82,14 @@ TEST(SpecErrors, NulBytesAreInvalidJsonWhereverTheyAre) {
   }
 }
 
+// The label's limit is in characters: 200 accented letters are 400 bytes and fit; 201 do not.
+TEST(SpecErrors, LabelLengthCountsCharactersNotBytes) {
+  std::string label;
+  for (int k = 0; k < 200; ++k) label += "\xc3\xa9";  // é
+  EXPECT_EQ(parse_spec_text(R"({"label": ")" + label + R"("})").label, label);
+  EXPECT_THROW(parse_spec_text(R"({"label": ")" + label + "x" + R"("})"), SpecError);
+}
+
 // A key given twice is refused (which one would count is a guess), naming it, at any depth.
 TEST(SpecErrors, DuplicateKeysAreRefusedNamingTheField) {
   for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
