@@ -20,6 +20,8 @@
 #include "api/runner.h"
 #include "api/spec.h"
 #include "api/spec_docs.h"
+#include "api/sweep.h"
+#include "api/bounded_json.h"
 #include "server/store/sqlite.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
@@ -145,6 +147,10 @@ json job_json(const JobRecord& j, bool full) {
   if (j.eta_seconds >= 0 && j.status == "running") out["eta_seconds"] = j.eta_seconds;
   if (!j.error.empty()) out["error"] = j.error;
   if (!j.owner.empty()) out["owner"] = j.owner;
+  if (j.sweep_id != 0) {
+    out["sweep_id"] = j.sweep_id;
+    out["sweep_values"] = json::parse(j.sweep_values, nullptr, false);
+  }
   if (full) {
     out["spec"] = json::parse(j.spec_json);
     out["spec_hash"] = j.spec_hash;
@@ -195,6 +201,33 @@ std::map<std::string, User> read_token_file(const std::string& path, std::string
   }
   if (tokens.empty()) throw std::invalid_argument("token file '" + path + "' holds no token");
   return tokens;
+}
+
+bool HttpServer::within_queue_quota(const User& who, std::size_t more, httplib::Response& res) {
+  if (options_.max_queued_per_user <= 0) return true;
+  const std::size_t queued = store_.count("queued", who.name);
+  if (queued + more <= std::size_t(options_.max_queued_per_user)) return true;
+  error(res, 429, "quota",
+        (who.name.empty() ? std::string("the server") : "user '" + who.name + "'") + " has " + std::to_string(queued) +
+            " queued jobs and asks for " + std::to_string(more) + " more; the limit is " +
+            std::to_string(options_.max_queued_per_user) + " (max_queued_per_user): wait for some to start or cancel some");
+  return false;
+}
+
+std::optional<SweepRecord> HttpServer::sweep_for(const httplib::Request& req, httplib::Response& res, const char* action,
+                                                bool write) {
+  const auto id = path_id(req.matches[1]);
+  auto sweep = id ? store_.get_sweep(*id) : std::nullopt;
+  if (!sweep) {
+    error(res, 404, "not_found", "no sweep " + std::string(req.matches[1]));
+    return std::nullopt;
+  }
+  const User who = caller(req).value_or(User{});
+  if (who.admin || sweep->owner == who.name || (!write && !options_.private_reads)) return sweep;
+  error(res, 403, "forbidden",
+        "sweep " + std::to_string(sweep->id) + " belongs to '" + sweep->owner + "': only its owner or an admin may " +
+            action + " it");
+  return std::nullopt;
 }
 
 std::optional<User> HttpServer::caller(const httplib::Request& req) const {
@@ -361,7 +394,96 @@ void HttpServer::stop() {
   if (http_->is_running()) http_->stop();
 }
 
+void HttpServer::sweep_routes() {
+  // A sweep: every point validated (and within the budget and the quota) before any job is created.
+  http_->Post("/v1/sweeps", [this](const httplib::Request& req, httplib::Response& res) {
+    api::Sweep sweep;
+    try {
+      sweep = api::parse_sweep(api::parse_bounded_json(req.body), std::size_t(options_.max_jobs_per_sweep));
+    } catch (const api::SpecError& e) {
+      return error(res, 400, e.code, e.what(), e.field);
+    }
+    long priority = 0;
+    if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    for (const api::SweepPoint& p : sweep.points)
+      if (!within_budget(p.spec, res)) return;
+    const User who = caller(req).value_or(User{});
+    if (!within_queue_quota(who, sweep.points.size(), res)) return;
+    std::vector<JobStore::SweepJob> jobs;
+    for (const api::SweepPoint& p : sweep.points) {
+      std::string label = sweep.label.empty() ? p.spec.label : sweep.label;
+      for (const auto& [key, value] : p.values.items()) label += " " + key + "=" + value.dump();
+      jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
+                      api::spec_hash(p.spec.normalized), p.values.dump()});
+    }
+    SweepRecord record;
+    record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;
+    record.base_json = sweep.base.dump(), record.vary_json = sweep.vary.dump();
+    const auto [id, ids] = store_.submit_sweep(record, jobs, api::engine_version(), int(priority));
+    pool_.notify();
+    reply(res, 201, {{"id", id}, {"jobs", ids}});
+  });
+
+  http_->Get("/v1/sweeps", [this](const httplib::Request& req, httplib::Response& res) {
+    long limit = 50, offset = 0;
+    if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
+    std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
+    const User who = caller(req).value_or(User{});
+    if (options_.private_reads && !who.admin) {
+      if (!owner.empty() && owner != who.name)
+        return error(res, 403, "forbidden", "this server is private: you may list only your own sweeps", "owner");
+      owner = who.name;
+    }
+    json sweeps = json::array();
+    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, owner))
+      sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
+                        {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
+    reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
+  });
+
+  // Its jobs with their values, status, progress, and (when done) first yield and peak.
+  http_->Get(R"(/v1/sweeps/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto sweep = sweep_for(req, res, "read", false);
+    if (!sweep) return;
+    json jobs = json::array();
+    std::map<std::string, int> counts;
+    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+      json item = {{"id", j.id},
+                   {"status", j.status},
+                   {"progress", j.progress},
+                   {"values", json::parse(j.sweep_values, nullptr, false)}};
+      if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
+      if (!j.error.empty()) item["error"] = j.error;
+      if (!j.summary_json.empty()) {
+        const json summary = json::parse(j.summary_json, nullptr, false);
+        for (const char* key : {"first_yield", "peak"})
+          if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
+      }
+      ++counts[j.status];
+      jobs.push_back(item);
+    }
+    reply(res, 200,
+          {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
+           {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
+           {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
+  });
+
+  // Cancels what has not finished: queued jobs at once, running ones within a second.
+  http_->Post(R"(/v1/sweeps/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto sweep = sweep_for(req, res, "cancel", true);
+    if (!sweep) return;
+    int cancelled = 0, requested = 0;
+    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+      const auto r = store_.request_cancel(j.id);
+      cancelled += r == JobStore::CancelResult::cancelled_queued;
+      requested += r == JobStore::CancelResult::requested_running;
+    }
+    reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
+  });
+}
+
 void HttpServer::routes() {
+  sweep_routes();
   http_->Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
     reply(res, 200,
           {{"status", "ok"},
@@ -395,11 +517,7 @@ void HttpServer::routes() {
         return reply(res, 200, {{"id", *id}, {"status", "succeeded"}, {"reused", true}});
     }
     const User who = caller(req).value_or(User{});
-    if (options_.max_queued_per_user > 0 && store_.count("queued", who.name) >= std::size_t(options_.max_queued_per_user))
-      return error(res, 429, "quota",
-                   (who.name.empty() ? std::string("the server") : "user '" + who.name + "'") + " already has " +
-                       std::to_string(options_.max_queued_per_user) +
-                       " queued jobs (max_queued_per_user); wait for some to start or cancel some");
+    if (!within_queue_quota(who, 1, res)) return;
     const std::int64_t id = store_.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
                                           who.name, int(priority));
     pool_.notify();

@@ -41,6 +41,7 @@ struct HttpOptions {
   std::map<std::string, User> tokens;
   bool private_reads = false;            ///< reading a job is for its owner and admins only
   int max_queued_per_user = 1000;        ///< more queued jobs of one user get 429
+  int max_jobs_per_sweep = 1000;         ///< a larger sweep is a 400
   /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
   double max_memory_bytes = 0;           ///< peak memory; 0 = half the machine's physical memory
   double max_sphere_steps = 1e13;        ///< spheres x time steps (about 9 h at 3e8 per second)
@@ -75,6 +76,12 @@ class HttpServer {
   /// The job of the path's id if `who` may read it (or, `write`, change it); otherwise answers 404/403.
   std::optional<JobRecord> job_for(const httplib::Request& req, httplib::Response& res, const char* action,
                                    bool write);
+  /// The same for a sweep.
+  std::optional<SweepRecord> sweep_for(const httplib::Request& req, httplib::Response& res, const char* action,
+                                       bool write);
+  /// False (and a 429 naming the limit) when `who` may not queue `more` jobs.
+  bool within_queue_quota(const User& who, std::size_t more, httplib::Response& res);
+  void sweep_routes();
   JobStore& store_;
   WorkerPool& pool_;
   HttpOptions options_;

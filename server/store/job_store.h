@@ -43,6 +43,15 @@ struct JobRecord {
   std::int64_t started_ms = 0;   ///< ms since the Unix epoch; 0 = not started
   std::int64_t finished_ms = 0;  ///< ms since the Unix epoch; 0 = not finished
   bool cancel_requested = false;
+  std::int64_t sweep_id = 0;  ///< 0 = not part of a sweep
+  std::string sweep_values;   ///< JSON {"dotted.key": value} of its point in the sweep
+};
+
+struct SweepRecord {
+  std::int64_t id = 0;
+  std::string label, owner, mode;
+  std::string base_json, vary_json;
+  std::int64_t created_ms = 0;  ///< ms since the Unix epoch
 };
 
 struct SnapshotInfo {
@@ -101,6 +110,19 @@ class JobStore {
   bool cancel_requested(std::int64_t id);
 
   std::optional<JobRecord> get(std::int64_t id);
+
+  /// A job of a sweep, before it exists.
+  struct SweepJob {
+    std::string spec_json, experiment, label, spec_hash, values_json;
+  };
+  /// Creates the sweep and all its jobs (queued) in one transaction; returns the sweep's id and the jobs'.
+  std::pair<std::int64_t, std::vector<std::int64_t>> submit_sweep(const SweepRecord& sweep, const std::vector<SweepJob>& jobs,
+                                                                  const std::string& engine_version, int priority);
+  std::optional<SweepRecord> get_sweep(std::int64_t id);
+  /// Newest first; `owner_filter` empty = all.
+  std::vector<SweepRecord> list_sweeps(int limit, std::int64_t offset, const std::string& owner_filter = "");
+  /// The sweep's jobs, in the order of its points.
+  std::vector<JobRecord> sweep_jobs(std::int64_t sweep_id);
   /// Newest first. `status_filter` / `owner_filter` empty = any; `limit` < 0 = no limit.
   std::vector<JobRecord> list(const std::string& status_filter, int limit, std::int64_t offset,
                               const std::string& owner_filter = "");

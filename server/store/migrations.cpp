@@ -89,6 +89,22 @@ CREATE TABLE checkpoints (
   at_ms          INTEGER NOT NULL
 );
 )sql",
+    // 4: sweeps. A sweep is its request (base spec, varied lists, mode); its jobs are ordinary jobs that
+    // name it and the values of their point.
+    R"sql(
+CREATE TABLE sweeps (
+  id         INTEGER PRIMARY KEY,
+  label      TEXT    NOT NULL DEFAULT '',
+  owner      TEXT    NOT NULL DEFAULT '',
+  mode       TEXT    NOT NULL,
+  base_json  TEXT    NOT NULL,
+  vary_json  TEXT    NOT NULL,
+  created_ms INTEGER NOT NULL
+);
+ALTER TABLE jobs ADD COLUMN sweep_id INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN sweep_values TEXT NOT NULL DEFAULT '';
+CREATE INDEX jobs_by_sweep ON jobs (sweep_id, id);
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

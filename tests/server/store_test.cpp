@@ -611,7 +611,8 @@ TEST_F(StoreFileTest, MigrationsAreIdempotentAndTheFileIsHealthy) {
   EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
   EXPECT_EQ(query("PRAGMA foreign_key_check"), "<no row>");
   EXPECT_EQ(query("PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(query("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name LIKE 'jobs_by_%'"), "2");
+  // jobs_by_status, jobs_by_spec, jobs_by_sweep
+  EXPECT_EQ(query("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name LIKE 'jobs_by_%'"), "3");
 }
 
 TEST_F(StoreFileTest, RefusesADatabaseFromANewerBuild) {
