@@ -86,10 +86,6 @@ void ConnectionLoop::wake() {
 }
 
 void ConnectionLoop::adopt(int fd) {
-  if (stopping_) {
-    ::close(fd);
-    return;
-  }
   if (++open_ > options_.max_connections) {
     const std::string text = error_response(
         503, "too_many_connections",
@@ -105,23 +101,34 @@ void ConnectionLoop::adopt(int fd) {
   int yes = 1;
   ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    incoming_.push_back({fd, 0, ""});
+    std::lock_guard<std::mutex> lock(mutex_);  // with stop(): a socket is either taken in or closed, never lost
+    if (stopping_) {
+      ::close(fd);
+      --open_;
+      return;
+    }
+    incoming_.push_back({fd, 0, "", "", true});
   }
   wake();
 }
 
 void ConnectionLoop::stop() {
-  if (stopping_.exchange(true)) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_.exchange(true)) return;
+  }
   wake();
   work_ready_.notify_all();
   if (poller_.joinable()) poller_.join();
   for (auto& t : handlers_)
     if (t.joinable()) t.join();
-  // What was queued or handed back after the threads stopped.
+  // Answers made after the poll thread stopped: sent if the socket takes them at once, then closed.
   std::lock_guard<std::mutex> lock(mutex_);
   for (const Work& w : work_) close_connection(w.fd);
-  for (const Handed& h : incoming_) close_connection(h.fd);
+  for (const Handed& h : incoming_) {
+    send_all(h.fd, h.response.data(), h.response.size(), 100);
+    close_connection(h.fd);
+  }
   work_.clear();
   incoming_.clear();
 }
@@ -134,19 +141,31 @@ void ConnectionLoop::close_connection(int fd) {
 void ConnectionLoop::admit(Handed h, std::int64_t now) {
   Connection& c = connections_.emplace(h.fd, Connection{RequestReader(options_.limits, std::move(h.leftover))}).first->second;
   c.served = h.served;
+  if (!h.response.empty()) {  // the answer first; the next request (maybe already here) after it
+    c.out = std::move(h.response);
+    c.close_after = !h.keep;
+    c.deadline_ms = now + options_.write_timeout_ms;
+    return;
+  }
   c.deadline_ms = now + (c.reader.started() ? options_.request_timeout_ms : options_.keep_alive_timeout_ms);
   after_feed(h.fd, c, now);
+}
+
+// Stop writing, then read and discard for a moment before closing: closing with unread bytes would reset
+// the connection and could destroy the answer before the client reads it.
+void ConnectionLoop::drain(int fd, Connection& c, std::int64_t now) {
+  ::shutdown(fd, SHUT_WR);
+  c.draining = true;
+  c.out.clear();
+  c.out_at = 0;
+  c.deadline_ms = now + 2000;
 }
 
 void ConnectionLoop::reject(int fd, Connection& c, int status, const std::string& code, const std::string& message,
                             std::int64_t now) {
   const std::string text = error_response(status, code, message);
   send_all(fd, text.data(), text.size(), 0);
-  // Closing with unread bytes would reset the connection and could destroy the answer before the
-  // client reads it: stop writing, then read and discard for a moment.
-  ::shutdown(fd, SHUT_WR);
-  c.draining = true;
-  c.deadline_ms = now + 2000;
+  drain(fd, c, now);
 }
 
 void ConnectionLoop::after_feed(int fd, Connection& c, std::int64_t now) {
@@ -187,6 +206,25 @@ void ConnectionLoop::on_readable(int fd, std::int64_t now) {
   after_feed(fd, c, now);
 }
 
+void ConnectionLoop::on_writable(int fd, std::int64_t now) {
+  Connection& c = connections_.at(fd);
+  const ssize_t n = ::send(fd, c.out.data() + c.out_at, c.out.size() - c.out_at, MSG_NOSIGNAL);
+  if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
+  if (n <= 0) {
+    connections_.erase(fd);
+    return close_connection(fd);
+  }
+  c.out_at += std::size_t(n);
+  c.deadline_ms = now + options_.write_timeout_ms;  // progress: a slow reader, not a stalled one
+  if (c.writing()) return;
+  c.out.clear();
+  c.out_at = 0;
+  if (c.close_after) return drain(fd, c, now);
+  // The next request: it may already be here (pipelined), or not yet begun.
+  c.deadline_ms = now + (c.reader.started() ? options_.request_timeout_ms : options_.keep_alive_timeout_ms);
+  after_feed(fd, c, now);
+}
+
 void ConnectionLoop::poll_loop() {
   std::vector<pollfd> polled;
   while (!stopping_) {
@@ -201,7 +239,8 @@ void ConnectionLoop::poll_loop() {
     polled.assign(1, pollfd{wake_fd_, POLLIN, 0});
     std::int64_t next_deadline = now + 1000;
     for (const auto& [fd, c] : connections_) {
-      polled.push_back({fd, POLLIN, 0});
+      // While an answer goes out, nothing more is read: a client must take its answers to send more.
+      polled.push_back({fd, short(c.writing() ? POLLOUT : POLLIN), 0});
       next_deadline = std::min(next_deadline, c.deadline_ms);
     }
     const int ready = ::poll(polled.data(), polled.size(), int(std::max<std::int64_t>(0, next_deadline - now)));
@@ -214,20 +253,26 @@ void ConnectionLoop::poll_loop() {
       std::uint64_t count = 0;
       [[maybe_unused]] const ssize_t n = ::read(wake_fd_, &count, sizeof count);
     }
-    for (std::size_t i = 1; i < polled.size(); ++i)
-      if (polled[i].revents && connections_.count(polled[i].fd)) on_readable(polled[i].fd, now);
+    for (std::size_t i = 1; i < polled.size(); ++i) {
+      const auto it = connections_.find(polled[i].fd);
+      if (!polled[i].revents || it == connections_.end()) continue;
+      if (it->second.writing()) on_writable(polled[i].fd, now);
+      else on_readable(polled[i].fd, now);
+    }
 
-    // Deadlines: a request still arriving is a slow sender (408); an idle or draining one just closes.
+    // Deadlines: a request still arriving is a slow sender (408, then a moment to read it); an idle,
+    // stalled-reading or draining connection just closes.
     for (auto it = connections_.begin(); it != connections_.end();) {
       const int fd = it->first;
       Connection& c = it->second;
       ++it;
       if (c.deadline_ms > now) continue;
-      if (!c.draining && c.reader.started()) {
+      if (!c.draining && !c.writing() && c.reader.started()) {
         reject(fd, c, 408, "request_timeout",
                "the request was not complete within " + std::to_string(options_.request_timeout_ms) +
                    " ms (request_timeout)",
                now);
+        continue;
       }
       connections_.erase(fd);
       close_connection(fd);
@@ -248,19 +293,19 @@ void ConnectionLoop::handler_loop() {
       work_.pop_front();
     }
     const bool last = w.served + 1 >= options_.keep_alive_max_requests || stopping_;
-    bool keep = false;
+    Handed back{w.fd, w.served + 1, std::move(w.leftover), "", false};
     try {
-      keep = handler_(w.fd, w.request, last) && !last;
+      back.keep = handler_(w.fd, w.request, last, back.response) && !last;
     } catch (const std::exception& e) {
       spdlog::error("connection handler threw: {}", e.what());
     }
-    if (!keep || stopping_) {
+    if (back.response.empty() && !back.keep) {
       close_connection(w.fd);
       continue;
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      incoming_.push_back({w.fd, w.served + 1, std::move(w.leftover)});
+      incoming_.push_back(std::move(back));
     }
     wake();
   }

@@ -1,9 +1,11 @@
 // The daemon's connections, so that no client can hold a thread it is not using. One poll thread owns
-// every connection that is idle or still sending its request: it reads what arrives, feeds a
-// RequestReader, and drops connections whose request is not complete within `request_timeout_ms` (slow
-// senders: 408) or that stay idle past `keep_alive_timeout_ms`. Only complete requests reach the handler
-// threads, which answer them and give the connection back. Idle and slow sockets therefore cost a file
-// descriptor and a few bytes, never a handler thread: /v1/health answers while dozens of them are open.
+// every connection that is idle, still sending its request, or slow to read its answer: it reads what
+// arrives and feeds a RequestReader, writes answers as the socket takes them, and drops connections whose
+// request is not complete within `request_timeout_ms` (slow senders: 408), that stay idle past
+// `keep_alive_timeout_ms`, or whose answer makes no progress for `write_timeout_ms` (slow readers). Only
+// complete requests reach the handler threads, which turn them into answers in memory and hand both back.
+// Idle, slow and non-reading clients therefore cost a file descriptor and some bytes, never a handler
+// thread: /v1/health answers while dozens of them are open.
 #pragma once
 
 #include <atomic>
@@ -28,7 +30,7 @@ struct ConnectionOptions {
   int request_timeout_ms = 10000;       ///< from a request's first byte to its last
   int keep_alive_timeout_ms = 5000;     ///< idle time allowed between requests on one connection
   int keep_alive_max_requests = 100;    ///< requests per connection before it is closed
-  int write_timeout_ms = 10000;         ///< a response write that cannot progress for this long fails
+  int write_timeout_ms = 10000;         ///< an answer that makes no progress for this long is abandoned
 };
 
 /// Sends all of `data` on `fd` (blocking or not), waiting at most `timeout_ms` each time the socket is
@@ -37,9 +39,9 @@ bool send_all(int fd, const char* data, std::size_t size, int timeout_ms);
 
 class ConnectionLoop {
  public:
-  /// Answers one complete request read from `fd` (writes the response to fd) and returns whether the
-  /// connection may serve another. `last` says this is the connection's last request.
-  using Handler = std::function<bool(int fd, const std::string& request, bool last)>;
+  /// Answers one complete request read from `fd`: appends the whole answer to `response` and returns
+  /// whether the connection may serve another. `last` says this is the connection's last request.
+  using Handler = std::function<bool(int fd, const std::string& request, bool last, std::string& response)>;
 
   ConnectionLoop(const ConnectionOptions& options, Handler handler);
   ~ConnectionLoop();
@@ -56,13 +58,18 @@ class ConnectionLoop {
   struct Connection {
     RequestReader reader;
     std::int64_t deadline_ms = 0;
-    int served = 0;         ///< requests answered on this connection
-    bool draining = false;  ///< rejected: reading and discarding until the peer closes or the deadline
+    int served = 0;             ///< requests answered on this connection
+    bool draining = false;      ///< rejected or done: reading and discarding until the peer closes or the deadline
+    std::string out;            ///< the answer being written
+    std::size_t out_at = 0;     ///< bytes of it already sent
+    bool close_after = false;   ///< close once `out` is sent
+    bool writing() const { return out_at < out.size(); }
   };
-  struct Handed {  ///< a connection entering the poll thread: new, or back from a handler
+  struct Handed {  ///< a connection entering the poll thread: new, or back from a handler with its answer
     int fd;
     int served;
-    std::string leftover;
+    std::string leftover, response;
+    bool keep = true;
   };
   struct Work {
     int fd;
@@ -74,9 +81,11 @@ class ConnectionLoop {
   void handler_loop();
   void admit(Handed h, std::int64_t now);
   void on_readable(int fd, std::int64_t now);
+  void on_writable(int fd, std::int64_t now);
   void after_feed(int fd, Connection& c, std::int64_t now);
   void reject(int fd, Connection& c, int status, const std::string& code, const std::string& message,
               std::int64_t now);
+  void drain(int fd, Connection& c, std::int64_t now);
   void close_connection(int fd);
   void wake();
 

@@ -25,8 +25,9 @@ class RequestReader {
   /// Appends received bytes and advances; returns the state reached.
   State feed(const char* data, std::size_t size);
   State state() const { return state_; }
-  /// True once any byte of this request has arrived (the request deadline runs from then).
-  bool started() const { return !buffer_.empty() || head_done_; }
+  /// True once any byte of this request has arrived, blank lines included (the request deadline runs
+  /// from then: a client cannot keep a connection by sending CRLFs).
+  bool started() const { return received_; }
   /// True exactly once, when the head asked for `100-continue` and the announced body is acceptable:
   /// the caller sends "HTTP/1.1 100 Continue" then.
   bool take_continue();
@@ -56,6 +57,8 @@ class RequestReader {
   bool chunked_ = false;
   enum class Chunk { size_line, data, data_end, trailer } chunk_ = Chunk::size_line;
   std::size_t chunk_remaining_ = 0;
+  std::size_t trailer_bytes_ = 0;
+  bool received_ = false;
   std::size_t content_length_ = 0;
   std::string body_;    ///< decoded chunked body so far
   bool continue_pending_ = false;

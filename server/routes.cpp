@@ -36,13 +36,13 @@ namespace granulab::server {
 namespace {
 
 // One complete request, already in memory (the ConnectionLoop read it), as the stream cpp-httplib parses;
-// the response goes straight to the socket.
+// the answer is collected in memory too, and the ConnectionLoop's poll thread sends it as the client reads.
 class BufferedStream : public httplib::Stream {
  public:
-  BufferedStream(int fd, const std::string& request, int write_timeout_ms)
-      : fd_(fd), request_(request), write_timeout_ms_(write_timeout_ms) {}
+  BufferedStream(int fd, const std::string& request, std::string& response)
+      : fd_(fd), request_(request), response_(response) {}
   bool is_readable() const override { return position_ < request_.size(); }
-  bool is_writable() const override { return true; }  // writes wait themselves, bounded by the timeout
+  bool is_writable() const override { return true; }  // the answer goes to memory; the poll thread sends it
   ssize_t read(char* out, size_t size) override {
     size = std::min(size, request_.size() - position_);
     std::copy_n(request_.data() + position_, size, out);
@@ -50,7 +50,8 @@ class BufferedStream : public httplib::Stream {
     return ssize_t(size);
   }
   ssize_t write(const char* data, size_t size) override {
-    return send_all(fd_, data, size, write_timeout_ms_) ? ssize_t(size) : -1;
+    response_.append(data, size);
+    return ssize_t(size);
   }
   void get_remote_ip_and_port(std::string& ip, int& port) const override { address(::getpeername, ip, port); }
   void get_local_ip_and_port(std::string& ip, int& port) const override { address(::getsockname, ip, port); }
@@ -78,8 +79,8 @@ class BufferedStream : public httplib::Stream {
   }
   int fd_;
   const std::string& request_;
+  std::string& response_;
   std::size_t position_ = 0;
-  int write_timeout_ms_;
 };
 
 }  // namespace
@@ -92,9 +93,8 @@ class LoopServer : public httplib::Server {
   /// cpp-httplib listens with a backlog of 5: a burst of connections beyond it waited seconds for the
   /// kernel's SYN-ACK retries. Listening again on the bound socket raises it (Linux keeps the socket).
   void raise_backlog() { ::listen(svr_sock_, SOMAXCONN); }
-  int write_timeout_ms = 10000;
-  bool answer(int fd, const std::string& request, bool last) {
-    BufferedStream stream(fd, request, write_timeout_ms);
+  bool answer(int fd, const std::string& request, bool last, std::string& response) {
+    BufferedStream stream(fd, request, response);
     bool closed = false;
     const bool ok = process_request(stream, last, closed, [](httplib::Request&) {});
     return ok && !closed;
@@ -302,9 +302,10 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
   connection.keep_alive_timeout_ms = options_.keep_alive_timeout_ms;
   connection.keep_alive_max_requests = options_.keep_alive_max_requests;
   connections_ = std::make_unique<ConnectionLoop>(
-      connection, [this](int fd, const std::string& request, bool last) { return http_->answer(fd, request, last); });
+      connection, [this](int fd, const std::string& request, bool last, std::string& response) {
+        return http_->answer(fd, request, last, response);
+      });
   http_->loop = connections_.get();
-  http_->write_timeout_ms = connection.write_timeout_ms;
   http_->set_payload_max_length(options_.max_body_bytes);
   // The Keep-Alive header cpp-httplib writes states the loop's policy.
   http_->set_keep_alive_max_count(std::size_t(options_.keep_alive_max_requests));

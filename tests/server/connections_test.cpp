@@ -196,6 +196,34 @@ TEST_F(Connections, IdleAndSlowClientsDoNotStallOthers) {
   for (auto& s : idle) EXPECT_EQ(s->receive_until([](const std::string&) { return false; }, 3000), "");
 }
 
+// Clients that send request after request and never read the answers hold no handler thread either:
+// the answers wait in memory for the poll thread, and health still answers at once.
+TEST_F(Connections, ClientsThatNeverReadDoNotHoldHandlers) {
+  HttpOptions options;
+  options.handler_threads = 4;
+  options.keep_alive_max_requests = 1000;
+  restart(options);
+  std::vector<std::unique_ptr<Socket>> greedy;
+  std::string burst;
+  for (int k = 0; k < 700; ++k) burst += "GET /v1/experiments HTTP/1.1\r\nHost: x\r\n\r\n";
+  // Twice the handler threads, each asking for ~10 MB of answers (more than the kernel's socket buffers
+  // hold) and reading none: a handler that wrote to the socket itself would block on each.
+  for (int k = 0; k < 8; ++k) {
+    greedy.push_back(std::make_unique<Socket>(port_));
+    ::send(greedy.back()->fd, burst.data(), burst.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (int k = 0; k < 5; ++k) {
+    const auto t0 = Clock::now();
+    httplib::Client fresh("127.0.0.1", port_);
+    auto r = fresh.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    EXPECT_LT(ms, 100.0);
+  }
+}
+
 // Page offsets past 2^31 are not wrapped into the first page.
 TEST_F(Connections, OffsetsPastTwoToThe31DoNotWrap) {
   post("/v1/jobs", kSpec, 201);

@@ -41,6 +41,25 @@ TEST(RequestReader, ChunkedBodyIsDecodedTheSameWhateverThePieces) {
   }
 }
 
+// Many one-byte chunks (linear work: each is parsed once) decode to the same body.
+TEST(RequestReader, ManySmallChunks) {
+  std::string wire = "POST / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n";
+  for (int k = 0; k < 100; ++k) wire += "1\r\nx\r\n";
+  wire += "0\r\n\r\n";
+  RequestReader r = feed(wire, wire.size());
+  ASSERT_EQ(r.state(), State::complete);
+  EXPECT_EQ(r.take_request(), "POST / HTTP/1.1\r\nContent-Length: 100\r\n\r\n" + std::string(100, 'x'));
+}
+
+// Blank lines start a request as far as the deadline goes: CRLFs every few seconds cannot hold a connection.
+TEST(RequestReader, BlankLinesCountAsStarted) {
+  RequestReader r(small());
+  EXPECT_FALSE(r.started());
+  r.feed("\r\n", 2);
+  EXPECT_TRUE(r.started());
+  EXPECT_EQ(r.state(), State::need_more);
+}
+
 TEST(RequestReader, NoContentLengthIsAnEmptyBody) {
   RequestReader r = feed("POST /v1/jobs/1/cancel HTTP/1.1\r\nHost: x\r\n\r\n", 1);
   ASSERT_EQ(r.state(), State::complete);
@@ -83,6 +102,9 @@ TEST(RequestReader, LimitsAreRejectionsNamingThem) {
       {"POST / HTTP/1.1\r\nExpect: something\r\n\r\n", 417, "100-continue"},
       {"POST / HTTP/1.1\r\nContent-Encoding: gzip\r\nContent-Length: 2\r\n\r\n", 415, "compressed"},
       {"GET / HTTP/1.1\r\nno colon here\r\n\r\n", 400, "header line"},
+      {"POST / HTTP/1.1\r\nTransfer-Encoding : chunked\r\n\r\n", 400, "no space in the name"},
+      {"GET / HTTP/1.1\r\nHost: x\r\n Transfer-Encoding: chunked\r\n\r\n", 400, "no folding"},
+      {"POST / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n" + std::string(300, 'a') + "\r\n", 400, "trailer"},
   };
   for (const Case& c : cases) {
     for (std::size_t piece : {c.wire.size(), std::size_t(1)}) {
