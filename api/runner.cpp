@@ -1,5 +1,6 @@
 #include "api/runner.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -16,6 +17,8 @@ void MemorySink::begin(const std::vector<CurveColumn>& columns, const Resume* re
   if (!resume || curve_csv_.empty()) curve_csv_ = curve_csv_header(columns);
   if (!resume) return snapshots_.clear();
   curve_csv_.resize(curve_csv_prefix(curve_csv_, resume->rows));
+  if (std::size_t(std::count(curve_csv_.begin(), curve_csv_.end(), '\n')) != resume->rows + 1)
+    throw CheckpointError("the sink holds fewer curve rows than the checkpoint follows");
   if (snapshots_.size() > resume->snapshots) snapshots_.resize(resume->snapshots);
 }
 
@@ -23,16 +26,21 @@ void MemorySink::curve_row(const std::vector<double>& values) { curve_csv_ += cu
 
 void MemorySink::snapshot(std::size_t, const GrainSnapshot& s) { snapshots_.emplace_back(s.strain, snapshot_json(s)); }
 
+// The two counts and a checksum of them (the state carries its own): a damaged count would trim the
+// results at the wrong place.
 std::string pack_resume(const Resume& resume) {
-  const std::uint64_t counts[2] = {resume.rows, resume.snapshots};
-  return std::string(reinterpret_cast<const char*>(counts), sizeof counts) + resume.state;
+  std::uint64_t head[3] = {resume.rows, resume.snapshots, 0};
+  head[2] = (head[0] * 1099511628211ull) ^ (head[1] + 1469598103934665603ull);
+  return std::string(reinterpret_cast<const char*>(head), sizeof head) + resume.state;
 }
 
 Resume unpack_resume(const std::string& bytes) {
-  std::uint64_t counts[2] = {0, 0};
-  if (bytes.size() < sizeof counts) throw CheckpointError("checkpoint truncated");
-  std::memcpy(counts, bytes.data(), sizeof counts);
-  Resume r{bytes.substr(sizeof counts), std::size_t(counts[0]), std::size_t(counts[1])};
+  std::uint64_t head[3] = {0, 0, 0};
+  if (bytes.size() < sizeof head) throw CheckpointError("checkpoint truncated");
+  std::memcpy(head, bytes.data(), sizeof head);
+  if (head[2] != ((head[0] * 1099511628211ull) ^ (head[1] + 1469598103934665603ull)))
+    throw CheckpointError("checkpoint corrupt (its row and snapshot counts)");
+  Resume r{bytes.substr(sizeof head), std::size_t(head[0]), std::size_t(head[1])};
   CheckpointReader check(r.state);  // the frame and checksum, before anything is trimmed
   return r;
 }

@@ -1,6 +1,9 @@
 #include "server/store_sink.h"
 
+#include <algorithm>
+
 #include "api/curve_format.h"
+#include "engine/core/checkpoint.h"
 #include "api/snapshot_files.h"
 
 namespace granulab::server {
@@ -32,6 +35,10 @@ void StoreSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
     // The rows up to the checkpoint are in the store: the whole curve, when the job ends, starts with them.
     const std::string stored = store_.live_curve_csv(job_).value_or(curve_csv_);
     curve_csv_ = stored.substr(0, api::curve_csv_prefix(stored, resume->rows));
+    const auto rows = std::size_t(std::count(curve_csv_.begin(), curve_csv_.end(), '\n'));
+    if (rows != resume->rows + 1)  // the header and the rows the checkpoint follows, or it is not this run's
+      throw CheckpointError("the store holds " + std::to_string(rows ? rows - 1 : 0) + " curve rows, the checkpoint follows " +
+                            std::to_string(resume->rows));
     rows_stored_ = resume->rows;
     return;
   }

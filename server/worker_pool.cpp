@@ -59,51 +59,66 @@ void WorkerPool::work() {
   }
 }
 
+std::optional<api::Resume> WorkerPool::resume_point(const JobRecord& job) {
+  // A job the daemon lost while it ran resumes from its checkpoint, if one of this build is stored.
+  std::optional<JobStore::Checkpoint> cp;
+  try {
+    cp = store_.checkpoint(job.id);
+    if (!cp) return std::nullopt;
+    if (cp->engine_version != api::engine_version()) {
+      spdlog::warn("job {}: its checkpoint is of another build ({}); it starts afresh", job.id, cp->engine_version);
+      return std::nullopt;  // the fresh run's start_curve drops it with the old results
+    }
+    CheckpointReader whole(cp->state);  // its frame and checksum, before any result is trimmed
+    store_.trim_results(job.id, cp->rows, cp->snapshots);
+  } catch (const CheckpointError& e) {
+    spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job.id, e.what());
+    return std::nullopt;
+  } catch (const std::exception& e) {  // the store failing: a fresh run resets what it can
+    spdlog::error("job {}: cannot read its checkpoint ({}); it starts afresh", job.id, e.what());
+    return std::nullopt;
+  }
+  spdlog::info("job {} resumes from its checkpoint after {} curve rows", job.id, cp->rows);
+  return api::Resume{cp->state, std::size_t(cp->rows), std::size_t(cp->snapshots)};
+}
+
 void WorkerPool::run_job(const JobRecord& job) {
   spdlog::info("job {} started ({})", job.id, job.experiment);
   const auto start = std::chrono::steady_clock::now();
-  // A job the daemon lost while it ran resumes from its checkpoint, if one of this build is stored.
-  std::optional<api::Resume> resume;
-  try {
-    if (const auto cp = store_.checkpoint(job.id)) {
-      if (cp->engine_version == api::engine_version()) {
-        resume = api::Resume{cp->state, std::size_t(cp->rows), std::size_t(cp->snapshots)};
-        CheckpointReader whole(resume->state);  // its frame and checksum, before any result is trimmed
-        store_.trim_results(job.id, cp->rows, cp->snapshots);
-        spdlog::info("job {} resumes from its checkpoint after {} curve rows", job.id, cp->rows);
-      } else {
-        store_.discard_partial_results(job.id);
-        spdlog::warn("job {}: its checkpoint is of another build ({}); it starts afresh", job.id, cp->engine_version);
+  std::optional<api::Resume> resume = resume_point(job);
+  for (;;) {
+    StoreSink sink(store_, job.id, stopping_, progress_seconds_, checkpoint_seconds_, api::engine_version());
+    try {
+      const api::Spec spec = api::parse_spec_text(job.spec_json);
+      api::run(spec, sink, resume ? &*resume : nullptr);
+      spdlog::info("job {} succeeded in {:.1f} s; results written in {} batches taking {:.3f} s", job.id,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), sink.flushes(),
+                   sink.flush_seconds_total());
+    } catch (const CheckpointError& e) {
+      if (resume) {  // the checkpoint does not fit this spec or the stored results: once more, afresh
+        spdlog::warn("job {}: cannot resume ({}); it starts afresh", job.id, e.what());
+        resume.reset();
+        continue;
       }
+      record_end(job.id, [&] { store_.fail(job.id, e.what()); });
+    } catch (const Interrupted&) {
+      spdlog::warn("job {} interrupted by shutdown; it will be re-queued at the next start", job.id);
+    } catch (const Cancelled&) {
+      keep_partial_results(sink, job.id);
+      record_end(job.id, [&] { store_.mark_cancelled(job.id); });
+      spdlog::info("job {} cancelled", job.id);
+    } catch (const sqlite::StoreFull& e) {
+      const std::string reason = std::string("the server's storage is full (its disk, or --max-db-mb): ") + e.what() +
+                                 "; what was stored before is kept";
+      record_end(job.id, [&] { store_.fail(job.id, reason); });
+      spdlog::error("job {} failed: {}", job.id, reason);
+    } catch (const std::exception& e) {
+      keep_partial_results(sink, job.id);
+      const std::string reason = e.what();
+      record_end(job.id, [&] { store_.fail(job.id, reason); });
+      spdlog::error("job {} failed: {}", job.id, reason);
     }
-  } catch (const std::exception& e) {  // a checkpoint that cannot be read: start afresh
-    spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job.id, e.what());
-    resume.reset();
-    record_end(job.id, [&] { store_.discard_partial_results(job.id); });
-  }
-  StoreSink sink(store_, job.id, stopping_, progress_seconds_, checkpoint_seconds_, api::engine_version());
-  try {
-    const api::Spec spec = api::parse_spec_text(job.spec_json);
-    api::run(spec, sink, resume ? &*resume : nullptr);
-    spdlog::info("job {} succeeded in {:.1f} s; results written in {} batches taking {:.3f} s", job.id,
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), sink.flushes(),
-                 sink.flush_seconds_total());
-  } catch (const Interrupted&) {
-    spdlog::warn("job {} interrupted by shutdown; it will be re-queued at the next start", job.id);
-  } catch (const Cancelled&) {
-    keep_partial_results(sink, job.id);
-    record_end(job.id, [&] { store_.mark_cancelled(job.id); });
-    spdlog::info("job {} cancelled", job.id);
-  } catch (const sqlite::StoreFull& e) {
-    const std::string reason = std::string("the server's storage is full (its disk, or --max-db-mb): ") + e.what() +
-                               "; what was stored before is kept";
-    record_end(job.id, [&] { store_.fail(job.id, reason); });
-    spdlog::error("job {} failed: {}", job.id, reason);
-  } catch (const std::exception& e) {
-    keep_partial_results(sink, job.id);
-    const std::string reason = e.what();
-    record_end(job.id, [&] { store_.fail(job.id, reason); });
-    spdlog::error("job {} failed: {}", job.id, reason);
+    return;
   }
 }
 

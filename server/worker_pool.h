@@ -8,9 +8,11 @@
 #include <condition_variable>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
+#include "api/job_sink.h"
 #include "server/store/job_store.h"
 
 namespace granulab::server {
@@ -40,6 +42,8 @@ class WorkerPool {
  private:
   void work();
   void run_job(const JobRecord& job);
+  /// The checkpoint a lost run of `job` resumes from (its results trimmed to it), or none.
+  std::optional<api::Resume> resume_point(const JobRecord& job);
   /// Writes a job's end to the store; a failing store is logged, never thrown out of the worker.
   void record_end(std::int64_t job, const std::function<void()>& write);
   /// A cancelled or failed run keeps the rows and snapshots it made since the last batch.

@@ -348,8 +348,12 @@ std::optional<std::string> JobStore::curve_json(std::int64_t id) { return curve_
 void JobStore::start_curve(std::int64_t id, const std::string& header) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  Statement drop(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");
-  drop.bind(1, id).run();
+  // A run from the start: nothing of an earlier run may be mixed in or resumed from later.
+  for (const char* sql : {"DELETE FROM curve_rows WHERE job_id = ?1", "DELETE FROM snapshots WHERE job_id = ?1",
+                          "DELETE FROM checkpoints WHERE job_id = ?1"}) {
+    Statement drop(*db_, sql);
+    drop.bind(1, id).run();
+  }
   Statement st(*db_, "UPDATE jobs SET curve_header = ?2 WHERE id = ?1");
   st.bind(1, id).bind(2, header).run();
   tx.commit();

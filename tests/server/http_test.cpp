@@ -371,6 +371,29 @@ TEST_F(Daemon, CancelAndStopReachAOnePointJobWithinASecond) {
   EXPECT_EQ(get("/v1/jobs/" + std::to_string(stopped))["status"], "running");  // granulabd re-queues it
 }
 
+// A checkpoint that does not match the stored results (here: it follows 5 rows, the store holds none) is
+// not resumed from: the job starts afresh and its curve is the direct run's.
+TEST_F(Daemon, AMismatchedCheckpointStartsTheJobAfresh) {
+  struct FirstCheckpoint : api::MemorySink {
+    std::string state;
+    bool checkpoint_due() override { return state.empty(); }
+    void checkpoint(const std::string& s, std::size_t, std::size_t) override { state = s; }
+  } capture;
+  api::run(api::parse_spec_text(kTwoCube), capture);
+  ASSERT_FALSE(capture.state.empty());
+  const std::int64_t id = post("/v1/jobs", kTwoCube, 201)["id"];
+  ASSERT_EQ(store_->claim_next()->id, id);
+  store_->start_curve(id, "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force\n");
+  const JobStore::Checkpoint cp{capture.state, 5, 0, api::engine_version()};
+  store_->append_results(id, 0, {}, {}, &cp);
+  ASSERT_EQ(store_->requeue_running(), 1u);
+  pool_->start();
+  ASSERT_EQ(wait(id)["status"], "succeeded");
+  auto csv = client_->Get(("/v1/jobs/" + std::to_string(id) + "/curve?format=csv").c_str());
+  ASSERT_TRUE(csv);
+  EXPECT_EQ(csv->body, api::run_spec(api::parse_spec_text(kTwoCube)).curve_csv);
+}
+
 // The registry, as clients see it.
 TEST_F(Daemon, ExperimentsAreDescribedFromTheRegistry) {
   const json e = get("/v1/experiments");
