@@ -175,6 +175,22 @@ class Client:
         return self._request("GET", "/v1/jobs", {"status": status, "limit": limit, "offset": offset,
                                                  "owner": owner}).get("jobs", [])
 
+    def submit_sweep(self, spec, vary, mode="product", label="", priority=None):
+        """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns (sweep id, [job ids])."""
+        body = json.dumps({"spec": spec, "vary": vary, "mode": mode, "label": label})
+        r = self._request("POST", "/v1/sweeps", {"priority": priority}, body=body)
+        return r["id"], r["jobs"]
+
+    def sweep(self, sweep_id):
+        """The sweep with its jobs: values, status, progress, first yield and peak."""
+        return self._request("GET", f"/v1/sweeps/{int(sweep_id)}")
+
+    def sweeps(self, limit=50, offset=0, owner=None):
+        return self._request("GET", "/v1/sweeps", {"limit": limit, "offset": offset, "owner": owner}).get("sweeps", [])
+
+    def cancel_sweep(self, sweep_id):
+        return self._request("POST", f"/v1/sweeps/{int(sweep_id)}/cancel")
+
     def health(self):
         return self._request("GET", "/v1/health")
 

@@ -143,6 +143,19 @@ class PythonClientTest(unittest.TestCase):
             self.client.wait(slow, timeout=10)
         self.assertEqual(ctx.exception.code, "cancelled")
 
+    def test_sweep(self):
+        sweep_id, jobs = self.client.submit_sweep(TINY, {"material.friction": [0.1, 0.2, 0.3]}, label="friction")
+        self.assertEqual(len(jobs), 3)
+        for job in jobs:
+            self.assertEqual(self.client.wait(job, timeout=60)["status"], "succeeded")
+        view = self.client.sweep(sweep_id)
+        self.assertEqual(view["counts"], {"succeeded": 3})
+        self.assertEqual(sorted(j["values"]["material.friction"] for j in view["jobs"]), [0.1, 0.2, 0.3])
+        self.assertIn(sweep_id, [s["id"] for s in self.client.sweeps()])
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.submit_sweep(TINY, {"material.friction": [0.1, -5]})
+        self.assertEqual(ctx.exception.field, "vary.material.friction")
+
     def test_submit_from_file(self):
         path = os.path.join(self.tmp, "spec.json")
         with open(path, "w") as f:
