@@ -60,8 +60,11 @@ RunOutput run_spec(const Spec& spec, const ProgressFn& progress) {
 }
 
 std::string spec_hash(const nlohmann::json& normalized_spec) {
+  // The label is a name, not physics: two runs that differ only in it are the same run (reuse finds it).
+  nlohmann::json physics = normalized_spec;
+  if (physics.is_object()) physics.erase("label");
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the canonical dump (keys sorted by nlohmann)
-  for (unsigned char c : normalized_spec.dump()) h = (h ^ c) * 1099511628211ull;
+  for (unsigned char c : physics.dump()) h = (h ^ c) * 1099511628211ull;
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;

@@ -30,7 +30,8 @@ struct RunOutput {
 /// run() into a MemorySink; `progress` may stop the run.
 RunOutput run_spec(const Spec& spec, const ProgressFn& progress = nullptr);
 
-/// A stable 64-bit FNV-1a hash of the normalised spec, as 16 hex digits: identical specs, same hash.
+/// A stable 64-bit FNV-1a hash of the normalised spec without its label, as 16 hex digits: specs that
+/// differ only in their label (or in key order, or in defaults left out) have the same hash.
 std::string spec_hash(const nlohmann::json& normalized_spec);
 
 }  // namespace granulab::api

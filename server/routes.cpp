@@ -1,6 +1,7 @@
 #include "server/routes.h"
 
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <optional>
@@ -158,6 +159,26 @@ json job_json(const JobRecord& j, bool full) {
     if (!j.summary_json.empty()) out["summary"] = json::parse(j.summary_json);
   }
   return out;
+}
+
+// Only the query parameters a route knows: `?resue=true` is a typo to report, not to ignore.
+httplib::Server::Handler only(std::vector<std::string> known, httplib::Server::Handler handler) {
+  return [known = std::move(known), handler = std::move(handler)](const httplib::Request& req, httplib::Response& res) {
+    // The URL's own query, not req.params: cpp-httplib also puts a form-encoded body's fields there.
+    httplib::Params query;
+    const auto mark = req.target.find('?');
+    if (mark != std::string::npos) httplib::detail::parse_query_text(req.target.substr(mark + 1), query);
+    for (const auto& [name, value] : query) {
+      if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      return error(res, 400, "unknown_parameter",
+                   "unknown query parameter '" + name + "' (" +
+                       (known.empty() ? std::string("this route takes none") : "this route takes: " + list) + ")",
+                   name);
+    }
+    handler(req, res);
+  };
 }
 
 // Query integers with a range; a bad value is a 400 that names the parameter.
@@ -397,7 +418,7 @@ void HttpServer::stop() {
 
 void HttpServer::sweep_routes() {
   // A sweep: every point validated (and within the budget and the quota) before any job is created.
-  http_->Post("/v1/sweeps", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post("/v1/sweeps", only({"priority"}, [this](const httplib::Request& req, httplib::Response& res) {
     api::Sweep sweep;
     try {
       sweep = api::parse_sweep(api::parse_bounded_json(req.body), std::size_t(options_.max_jobs_per_sweep));
@@ -423,9 +444,9 @@ void HttpServer::sweep_routes() {
     const auto [id, ids] = store_.submit_sweep(record, jobs, api::engine_version(), int(priority));
     pool_.notify();
     reply(res, 201, {{"id", id}, {"jobs", ids}});
-  });
+  }));
 
-  http_->Get("/v1/sweeps", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get("/v1/sweeps", only({"owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
     long limit = 50, offset = 0;
     if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
     std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
@@ -440,10 +461,10 @@ void HttpServer::sweep_routes() {
       sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
                         {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
     reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
-  });
+  }));
 
   // Its jobs with their values, status, progress, and (when done) first yield and peak.
-  http_->Get(R"(/v1/sweeps/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get(R"(/v1/sweeps/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto sweep = sweep_for(req, res, "read", false);
     if (!sweep) return;
     json jobs = json::array();
@@ -467,10 +488,10 @@ void HttpServer::sweep_routes() {
           {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
            {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
            {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
-  });
+  }));
 
   // Cancels what has not finished: queued jobs at once, running ones within a second.
-  http_->Post(R"(/v1/sweeps/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post(R"(/v1/sweeps/(\d+)/cancel)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto sweep = sweep_for(req, res, "cancel", true);
     if (!sweep) return;
     int cancelled = 0, requested = 0;
@@ -480,7 +501,7 @@ void HttpServer::sweep_routes() {
       requested += r == JobStore::CancelResult::requested_running;
     }
     reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
-  });
+  }));
 }
 
 void HttpServer::routes() {
@@ -496,12 +517,12 @@ void HttpServer::routes() {
   });
 
   // Every registered experiment: its spec fields (default, range, unit, meaning) and curve columns.
-  http_->Get("/v1/experiments", [](const httplib::Request&, httplib::Response& res) {
+  http_->Get("/v1/experiments", only({}, [](const httplib::Request&, httplib::Response& res) {
     static const json description = api::experiments_json();  // the registry does not change at run time
     reply(res, 200, description);
-  });
+  }));
 
-  http_->Post("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post("/v1/jobs", only({"reuse", "priority"}, [this](const httplib::Request& req, httplib::Response& res) {
     api::Spec spec;
     try {
       spec = api::parse_spec_text(req.body);
@@ -513,7 +534,10 @@ void HttpServer::routes() {
     if (!within_budget(spec, res)) return;
     const std::string hash = api::spec_hash(spec.normalized);
     const std::string experiment = spec.normalized["experiment"].get<std::string>();
-    if (req.has_param("reuse") && req.get_param_value("reuse") == "true") {
+    const std::string reuse = req.has_param("reuse") ? req.get_param_value("reuse") : "false";
+    if (reuse != "true" && reuse != "false")
+      return error(res, 400, "invalid_value", "'reuse' must be true or false, got '" + reuse + "'", "reuse");
+    if (reuse == "true") {
       if (const auto id = store_.find_succeeded(hash, api::engine_version()))
         return reply(res, 200, {{"id", *id}, {"status", "succeeded"}, {"reused", true}});
     }
@@ -523,9 +547,9 @@ void HttpServer::routes() {
                                           who.name, int(priority));
     pool_.notify();
     reply(res, 201, {{"id", id}, {"status", "queued"}});
-  });
+  }));
 
-  http_->Get("/v1/jobs", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get("/v1/jobs", only({"status", "owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
     long limit = 50, offset = 0;
     if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
     const std::string status = req.has_param("status") ? req.get_param_value("status") : "";
@@ -544,13 +568,13 @@ void HttpServer::routes() {
     json jobs = json::array();
     for (const JobRecord& j : store_.list(status, int(limit), offset, owner)) jobs.push_back(job_json(j, false));
     reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
-  });
+  }));
 
-  http_->Get(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get(R"(/v1/jobs/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     if (const auto job = job_for(req, res, "read", false)) reply(res, 200, job_json(*job, true));
-  });
+  }));
 
-  http_->Delete(R"(/v1/jobs/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Delete(R"(/v1/jobs/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "delete", true);
     if (!job) return;
     switch (store_.remove(job->id)) {
@@ -561,9 +585,9 @@ void HttpServer::routes() {
       case JobStore::WriteResult::wrong_state:
         return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + ": cancel it first");
     }
-  });
+  }));
 
-  http_->Post(R"(/v1/jobs/(\d+)/priority)", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post(R"(/v1/jobs/(\d+)/priority)", only({"value"}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "re-prioritise", true);
     if (!job) return;
     long priority = 0;
@@ -577,9 +601,9 @@ void HttpServer::routes() {
       case JobStore::WriteResult::wrong_state:
         return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is no longer queued");
     }
-  });
+  }));
 
-  http_->Post(R"(/v1/jobs/(\d+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post(R"(/v1/jobs/(\d+)/cancel)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "cancel", true);
     if (!job) return;
     const std::int64_t id = job->id;
@@ -593,9 +617,9 @@ void HttpServer::routes() {
       case JobStore::CancelResult::wrong_state:
         return error(res, 409, "wrong_state", "job " + std::to_string(id) + " has already finished");
     }
-  });
+  }));
 
-  http_->Get(R"(/v1/jobs/(\d+)/curve)", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get(R"(/v1/jobs/(\d+)/curve)", only({"format"}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "read", false);
     if (!job) return;
     const std::int64_t id = job->id;
@@ -611,25 +635,25 @@ void HttpServer::routes() {
       return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + job->status + " and has no curve yet");
     if (csv) return res.set_content(*text, "text/csv");
     res.set_content(api::curve_csv_to_json(*text).dump(), "application/json");
-  });
+  }));
 
-  http_->Get(R"(/v1/jobs/(\d+)/snapshots)", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get(R"(/v1/jobs/(\d+)/snapshots)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "read", false);
     if (!job) return;
     const std::int64_t id = job->id;
     json list = json::array();
     for (const auto& s : store_.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
     reply(res, 200, {{"snapshots", list}});
-  });
+  }));
 
-  http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "read", false);
     if (!job) return;
     const auto index = path_id(req.matches[2]);
     const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
     if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
     res.set_content(std::string(blob->begin(), blob->end()), "application/json");
-  });
+  }));
 }
 
 }  // namespace granulab::server

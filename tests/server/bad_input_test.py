@@ -639,7 +639,7 @@ class BadInputTest(unittest.TestCase):
         for v in ["%FF", "nobody", "%00", "a%20b"]:
             cases.append(get(f"/v1/jobs?owner={v}", 200))
         cases.append(get("/v1/jobs?owner=" + "x" * 10000, 414))
-        cases.append(get("/v1/jobs?" + "&".join(f"k{i}=v" for i in range(1000)), (200, 414)))
+        cases.append(get("/v1/jobs?" + "&".join(f"k{i}=v" for i in range(1000)), (400, 414)))  # unknown parameters
         for q in ["limit=5&limit=6", "%zz=1", "&&&", "=", "limit", "?limit=1", "limit=1#frag"]:
             cases.append(get(f"/v1/jobs?{q}"))
         # GET /v1/jobs/{id}: path junk.
@@ -664,7 +664,8 @@ class BadInputTest(unittest.TestCase):
         for v in ["csv", "json"]:
             cases.append(get(f"/v1/jobs/{d}/curve?format={v}", 200))
         cases.append(get(f"/v1/jobs/{d}/curve", 200))
-        cases.append(get(f"/v1/jobs/{c}/curve?format=csv&junk=%FF", 200))
+        cases.append(Case("curve with an unknown parameter", "GET", f"/v1/jobs/{c}/curve?format=csv&junk=%FF", expect=400,
+                          field="junk"))
         # Snapshots: the list, then indices.
         cases.append(get(f"/v1/jobs/{c}/snapshots", 200))
         cases.append(get(f"/v1/jobs/{d}/snapshots", 200))
@@ -679,7 +680,7 @@ class BadInputTest(unittest.TestCase):
                           expect=409, code="wrong_state"))
         cases.append(Case("POST cancel with a junk body", "POST", f"/v1/jobs/{d}/cancel", b"\xff\xfe[[[",
                           {"Content-Type": "application/json"}, expect=409))
-        cases.append(Case("POST cancel with a query", "POST", f"/v1/jobs/{d}/cancel?force=%FF", b"", expect=409))
+        cases.append(Case("POST cancel with a query", "POST", f"/v1/jobs/{d}/cancel?force=%FF", b"", expect=400, field="force"))
         # Priority (docs/api.md): ?value= -100..100, named `value`.
         for v in ["", "x", "1000", "-101", "101", "%FF", "99999999999999999999", "1.5"]:
             q = f"?value={v}" if v != "" else ""
@@ -716,8 +717,10 @@ class BadInputTest(unittest.TestCase):
                   "priority=", "priority=1.5", "priority=99999999999999999999"]:
             cases.append(Case(f"POST /v1/jobs?{q}", "POST", f"/v1/jobs?{q}", spec, json_type, expect=400,
                               field="priority"))
-        for q in ["reuse=%00", "reuse=yes", "reuse=true&reuse=false", "junk=%FF"]:
-            cases.append(Case(f"POST /v1/jobs?{q}", "POST", f"/v1/jobs?{q}", spec, json_type, expect=(200, 201)))
+        for q, field in [("reuse=%00", "reuse"), ("reuse=yes", "reuse"), ("junk=%FF", "junk")]:
+            cases.append(Case(f"POST /v1/jobs?{q}", "POST", f"/v1/jobs?{q}", spec, json_type, expect=400, field=field))
+        cases.append(Case("POST /v1/jobs?reuse=true&reuse=false", "POST", "/v1/jobs?reuse=true&reuse=false", spec,
+                          json_type, expect=(200, 201)))
         # Wrong methods on every route (DELETE /v1/jobs/{id} is a route: never sent to a fixture).
         routes = ["/v1/jobs", f"/v1/jobs/{d}", f"/v1/jobs/{d}/cancel", f"/v1/jobs/{d}/curve",
                   f"/v1/jobs/{d}/snapshots", f"/v1/jobs/{c}/snapshots/0", "/v1/experiments", "/v1/health",
@@ -735,7 +738,8 @@ class BadInputTest(unittest.TestCase):
             cases.append(Case(f"{method} {route}", method, route, b"" if method == "POST" else None, expect=expect))
         cases.append(Case("HEAD /v1/health", "HEAD", "/v1/health"))
         cases.append(Case("HEAD /v1/jobs/0", "HEAD", "/v1/jobs/0"))
-        cases.append(get("/v1/experiments?junk=%FF&x", 200))
+        cases.append(Case("experiments with unknown parameters", "GET", "/v1/experiments?junk=%FF&x", expect=400,
+                          field="junk"))
         cases.append(get("/v1/health?limit=-1", 200))
         return cases
 

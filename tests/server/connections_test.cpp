@@ -224,6 +224,27 @@ TEST_F(Connections, ClientsThatNeverReadDoNotHoldHandlers) {
   }
 }
 
+// A query parameter a route does not know is a typo to report (`?resue=true` was silently a fresh run), and
+// a label alone does not make a spec different for reuse.
+TEST_F(Connections, UnknownQueryParametersAreNamedAndReuseIgnoresTheLabel) {
+  json e = post("/v1/jobs?resue=true", kSpec, 400);
+  EXPECT_EQ(e["error"]["field"], "resue");
+  EXPECT_NE(e["error"]["message"].get<std::string>().find("reuse, priority"), std::string::npos) << e.dump();
+  EXPECT_EQ(get("/v1/jobs?stauts=queued", 400)["error"]["field"], "stauts");
+  EXPECT_EQ(get("/v1/jobs/1?x=1", 400)["error"]["code"], "unknown_parameter");
+  EXPECT_EQ(post("/v1/jobs?reuse=yes", kSpec, 400)["error"]["field"], "reuse");
+  EXPECT_TRUE(get("/v1/jobs")["jobs"].empty());  // none of these made a job
+  pool_->start();
+  json labelled = json::parse(kSpec);
+  labelled["label"] = "first";
+  const std::int64_t id = post("/v1/jobs", labelled.dump(), 201)["id"];
+  ASSERT_EQ(wait(id)["status"], "succeeded");
+  labelled["label"] = "the same run, another name";
+  const json again = post("/v1/jobs?reuse=true", labelled.dump(), 200);
+  EXPECT_EQ(again["id"], id);
+  EXPECT_EQ(again["reused"], true);
+}
+
 // Page offsets past 2^31 are not wrapped into the first page.
 TEST_F(Connections, OffsetsPastTwoToThe31DoNotWrap) {
   post("/v1/jobs", kSpec, 201);
