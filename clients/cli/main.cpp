@@ -173,6 +173,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string command = argv[1];
+  // --help and --version anywhere, for every command: the usage on stdout, exit 0.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h" || (i == 1 && a == "help")) {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (a == "--version" || (i == 1 && a == "-V")) {
+      std::cout << "granulab " << api::engine_version() << "\n";
+      return 0;
+    }
+  }
   try {
     if (command == "run") return run(argc, argv);
     if (command == "experiments") {

@@ -438,6 +438,21 @@ INSTANTIATE_TEST_SUITE_P(
 // ---------------------------------------------------------------------------------------------
 // 4. version
 
+// --help and --version work alone and after any command: usage or version on stdout, exit 0, nothing run.
+TEST_F(CliTest, HelpAndVersionForEveryCommand) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"--help"}, {"-h"}, {"help"}, {"run", "--help"}, {"submit", "--help"}, {"wait", "7", "--help"}, {"list", "-h"}}) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << args[0] << ": " << r.err;
+    EXPECT_NE(r.out.find("usage: granulab run"), std::string::npos) << args[0];
+  }
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"--version"}, {"-V"}, {"run", "--version"}}) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)"))) << r.out;
+  }
+}
+
 TEST_F(CliTest, VersionPrintsAVersionAndExitsZero) {
   const RunResult r = run({"version"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
