@@ -235,6 +235,20 @@ bool HttpServer::within_queue_quota(const User& who, std::size_t more, httplib::
   return false;
 }
 
+std::optional<std::string> HttpServer::listing_owner(const httplib::Request& req, httplib::Response& res,
+                                                     const char* what) {
+  std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
+  const User who = caller(req).value_or(User{});
+  if (options_.private_reads && !who.admin) {
+    if (!owner.empty() && owner != who.name) {
+      error(res, 403, "forbidden", std::string("this server is private: you may list only your own ") + what, "owner");
+      return std::nullopt;
+    }
+    owner = who.name;
+  }
+  return owner;
+}
+
 std::optional<SweepRecord> HttpServer::sweep_for(const httplib::Request& req, httplib::Response& res, const char* action,
                                                 bool write) {
   const auto id = path_id(req.matches[1]);
@@ -449,15 +463,10 @@ void HttpServer::sweep_routes() {
   http_->Get("/v1/sweeps", only({"owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
     long limit = 50, offset = 0;
     if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
-    std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
-    const User who = caller(req).value_or(User{});
-    if (options_.private_reads && !who.admin) {
-      if (!owner.empty() && owner != who.name)
-        return error(res, 403, "forbidden", "this server is private: you may list only your own sweeps", "owner");
-      owner = who.name;
-    }
+    const auto owner = listing_owner(req, res, "sweeps");
+    if (!owner) return;
     json sweeps = json::array();
-    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, owner))
+    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, *owner))
       sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
                         {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
     reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
@@ -558,15 +567,10 @@ void HttpServer::routes() {
       return error(res, 400, "invalid_value",
                    "'status' must be one of: queued, running, succeeded, failed, cancelled, got '" + status + "'",
                    "status");
-    std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
-    const User who = caller(req).value_or(User{});
-    if (options_.private_reads && !who.admin) {
-      if (!owner.empty() && owner != who.name)
-        return error(res, 403, "forbidden", "this server is private: you may list only your own jobs", "owner");
-      owner = who.name;
-    }
+    const auto owner = listing_owner(req, res, "jobs");
+    if (!owner) return;
     json jobs = json::array();
-    for (const JobRecord& j : store_.list(status, int(limit), offset, owner)) jobs.push_back(job_json(j, false));
+    for (const JobRecord& j : store_.list(status, int(limit), offset, *owner)) jobs.push_back(job_json(j, false));
     reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
   }));
 

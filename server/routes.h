@@ -79,6 +79,8 @@ class HttpServer {
   /// The same for a sweep.
   std::optional<SweepRecord> sweep_for(const httplib::Request& req, httplib::Response& res, const char* action,
                                        bool write);
+  /// The owner a listing is filtered by (?owner=, or the caller on a private server), or nullopt after a 403.
+  std::optional<std::string> listing_owner(const httplib::Request& req, httplib::Response& res, const char* what);
   /// False (and a 429 naming the limit) when `who` may not queue `more` jobs.
   bool within_queue_quota(const User& who, std::size_t more, httplib::Response& res);
   void sweep_routes();

@@ -164,22 +164,4 @@ void NeighborList::wall_phase(const Bodies& bodies, const std::vector<Vec3>& sph
   }
 }
 
-void NeighborList::save(CheckpointWriter& w) const {
-  w.section("neighbors");
-  w.values(pairs_);
-  w.values(keys_);
-  w.values(history_);
-  w.values(wall_keys_);
-  w.values(wall_history_);
-}
-
-void NeighborList::restore(CheckpointReader& r) {
-  r.section("neighbors");
-  r.values(pairs_);
-  r.values(keys_);
-  r.values(history_);
-  r.values(wall_keys_);
-  r.values(wall_history_);
-}
-
 }  // namespace granulab

@@ -57,10 +57,19 @@ class NeighborList {
   std::vector<Vec3>& wall_history() { return wall_history_; }
 
   /// The candidates and their shear history exactly (checkpoints); the old_* lists are scratch.
-  void save(CheckpointWriter& w) const;
-  void restore(CheckpointReader& r);
+  void state(CheckpointWriter& w) const { fields(w, *this); }
+  void state(CheckpointReader& r) { fields(r, *this); }
 
  private:
+  template <class Archive, class Self>
+  static void fields(Archive& a, Self& list) {
+    a.section("neighbors");
+    a.values(list.pairs_);
+    a.values(list.keys_);
+    a.values(list.history_);
+    a.values(list.wall_keys_);
+    a.values(list.wall_history_);
+  }
   void broad_phase(const Bodies& bodies);
   void narrow_phase(const Bodies& bodies);
   void wall_phase(const Bodies& bodies, const std::vector<Vec3>& sphere_positions, const std::vector<Wall>& walls);

@@ -246,41 +246,39 @@ void World::wall_forces() {
   }
 }
 
+// The saved state, in one list for both directions (CheckpointWriter and CheckpointReader have the
+// same value/values names): what is written is what is read, in the same order.
+template <class Archive, class Self>
+void World::state(Archive& a, Self& w) {
+  for (auto* field : {&w.bodies_.position, &w.bodies_.velocity, &w.bodies_.angular_momentum, &w.bodies_.angular_velocity,
+                      &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia, &w.built_position_,
+                      &w.built_wall_point_, &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_,
+                      &w.external_torque_})
+    a.values(*field);
+  a.values(w.bodies_.orientation);
+  a.values(w.built_orientation_);
+  a.values(w.bodies_.mass);
+  a.values(w.bodies_.motion);
+  a.values(w.walls_);
+  a.values(w.pair_contacts_);
+  a.values(w.pair_sliding_);
+  a.values(w.pair_overlap_);
+  a.values(w.pair_energy_);
+  a.values(w.overlap_sum_);
+  a.value(w.built_);
+  a.value(w.time_);
+  a.value(w.steps_);
+  a.value(w.rebuilds_);
+  a.value(w.stats_);
+  a.value(w.times_);
+  w.neighbors_.state(a);
+}
+
 void World::save(CheckpointWriter& w) const {
   w.section("world");
   w.value(std::uint64_t(bodies_.size()));
   w.value(std::uint64_t(walls_.size()));
-  w.values(bodies_.position);
-  w.values(bodies_.orientation);
-  w.values(bodies_.velocity);
-  w.values(bodies_.angular_momentum);
-  w.values(bodies_.angular_velocity);
-  w.values(bodies_.force);
-  w.values(bodies_.torque);
-  w.values(bodies_.mass);
-  w.values(bodies_.inertia);
-  w.values(bodies_.motion);
-  w.values(walls_);
-  neighbors_.save(w);
-  w.values(built_position_);
-  w.values(built_orientation_);
-  w.values(built_wall_point_);
-  w.value(built_);
-  w.values(pair_force_);
-  w.values(pair_torque_a_);
-  w.values(pair_torque_b_);
-  w.values(pair_contacts_);
-  w.values(pair_sliding_);
-  w.values(pair_overlap_);
-  w.values(pair_energy_);
-  w.values(overlap_sum_);
-  w.values(external_force_);
-  w.values(external_torque_);
-  w.value(time_);
-  w.value(steps_);
-  w.value(rebuilds_);
-  w.value(stats_);
-  w.value(times_);
+  state(w, *this);
 }
 
 void World::restore(CheckpointReader& r) {
@@ -290,37 +288,7 @@ void World::restore(CheckpointReader& r) {
     throw CheckpointError("checkpoint of a world with " + std::to_string(bodies) + " bodies and " + std::to_string(walls) +
                           " walls, this one has " + std::to_string(bodies_.size()) + " and " +
                           std::to_string(walls_.size()) + ": not the same spec");
-  r.values(bodies_.position);
-  r.values(bodies_.orientation);
-  r.values(bodies_.velocity);
-  r.values(bodies_.angular_momentum);
-  r.values(bodies_.angular_velocity);
-  r.values(bodies_.force);
-  r.values(bodies_.torque);
-  r.values(bodies_.mass);
-  r.values(bodies_.inertia);
-  r.values(bodies_.motion);
-  r.values(walls_);
-  neighbors_.restore(r);
-  r.values(built_position_);
-  r.values(built_orientation_);
-  r.values(built_wall_point_);
-  r.value(built_);
-  r.values(pair_force_);
-  r.values(pair_torque_a_);
-  r.values(pair_torque_b_);
-  r.values(pair_contacts_);
-  r.values(pair_sliding_);
-  r.values(pair_overlap_);
-  r.values(pair_energy_);
-  r.values(overlap_sum_);
-  r.values(external_force_);
-  r.values(external_torque_);
-  r.value(time_);
-  r.value(steps_);
-  r.value(rebuilds_);
-  r.value(stats_);
-  r.value(times_);
+  state(r, *this);
   spheres_current_ = false;  // sphere positions follow from the restored poses
 }
 

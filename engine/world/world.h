@@ -83,6 +83,8 @@ class World {
   void restore(CheckpointReader& r);
 
  private:
+  template <class Archive, class Self>
+  static void state(Archive& a, Self& w);  // save() and restore()'s one list of fields
   void update_sphere_positions() const;
   bool needs_rebuild() const;
   void rebuild();

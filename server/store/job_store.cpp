@@ -228,13 +228,9 @@ bool JobStore::mark_cancelled(std::int64_t id) {
 JobStore::CancelResult JobStore::request_cancel(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  std::string status;
-  {
-    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
-    st.bind(1, id);
-    if (!st.step()) return CancelResult::not_found;
-    status = st.column_text(0);
-  }
+  const std::optional<std::string> found = status_locked(id);
+  if (!found) return CancelResult::not_found;
+  const std::string& status = *found;
   CancelResult result;
   if (status == "queued") {
     Statement st(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
@@ -257,13 +253,9 @@ JobStore::CancelResult JobStore::request_cancel(std::int64_t id) {
 JobStore::WriteResult JobStore::remove(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  std::string status;
-  {
-    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
-    st.bind(1, id);
-    if (!st.step()) return WriteResult::not_found;
-    status = st.column_text(0);
-  }
+  const std::optional<std::string> found = status_locked(id);
+  if (!found) return WriteResult::not_found;
+  const std::string& status = *found;
   if (status == "queued" || status == "running") return WriteResult::wrong_state;
   for (const char* sql : {"DELETE FROM snapshots WHERE job_id = ?1", "DELETE FROM curve_rows WHERE job_id = ?1",
                           "DELETE FROM curves WHERE job_id = ?1", "DELETE FROM checkpoints WHERE job_id = ?1",
@@ -279,13 +271,9 @@ JobStore::WriteResult JobStore::remove(std::int64_t id) {
 JobStore::WriteResult JobStore::set_priority(std::int64_t id, int priority) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  std::string status;
-  {
-    Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
-    st.bind(1, id);
-    if (!st.step()) return WriteResult::not_found;
-    status = st.column_text(0);
-  }
+  const std::optional<std::string> found = status_locked(id);
+  if (!found) return WriteResult::not_found;
+  const std::string& status = *found;
   if (status != "queued") return WriteResult::wrong_state;
   Statement st(*db_, "UPDATE jobs SET priority = ?2 WHERE id = ?1");
   st.bind(1, id).bind(2, priority).run();
@@ -541,6 +529,13 @@ std::size_t JobStore::requeue_running() {
 void JobStore::log_event(std::int64_t job_id, const std::string& kind, const std::string& message) {
   std::lock_guard<std::mutex> lock(mutex_);
   log_event_locked(job_id, kind, message);
+}
+
+std::optional<std::string> JobStore::status_locked(std::int64_t id) {
+  Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
+  st.bind(1, id);
+  if (!st.step()) return std::nullopt;
+  return st.column_text(0);
 }
 
 void JobStore::drop_checkpoint_locked(std::int64_t id) {

@@ -183,6 +183,8 @@ class JobStore {
   std::vector<std::string> events(std::int64_t job_id);
 
  private:
+  /// A job's status, or nullopt for an unknown id (the caller holds the lock).
+  std::optional<std::string> status_locked(std::int64_t id);
   void drop_checkpoint_locked(std::int64_t id);
   void log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message);
   std::optional<JobRecord> get_locked(std::int64_t id);

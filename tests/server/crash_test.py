@@ -132,15 +132,7 @@ class CrashTest(unittest.TestCase):
                                   (job_id,)).fetchone()
                 self.assertEqual(n, 1, f"job {job_id}")
         self.proc = self.start()
-        direct_dir = os.path.join(self.dir, "direct")
-        spec_path = os.path.join(self.dir, "spec.json")
-        with open(spec_path, "w") as f:
-            json.dump(SPEC, f)
-        cli = os.path.join(os.path.dirname(DAEMON), "granulab")
-        subprocess.run([cli, "run", spec_path, "--out", direct_dir, "--threads", "1", "--quiet"], check=True,
-                       stdout=subprocess.DEVNULL)
-        with open(os.path.join(direct_dir, "curve.csv")) as f:
-            direct = f.read()
+        direct = self.direct_curve(SPEC)
         for job_id in ids:
             self.assertEqual(self.client.curve_csv(job_id), direct, f"job {job_id}")
         print(f"crash loop: 30 kills ({kills_while_running} with a job running, {resumed} resumptions from a "
