@@ -1,6 +1,8 @@
 #include "api/snapshot_files.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace granulab::api {
@@ -48,6 +50,55 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
   return {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
 }
 
+namespace {
+
+std::vector<double> numbers(const nlohmann::json& group, const char* key, std::size_t n) {
+  if (!group.contains(key) || !group[key].is_array() || group[key].size() != n)
+    throw std::invalid_argument(std::string("snapshot: '") + key + "' is missing or has the wrong length");
+  std::vector<double> v;
+  v.reserve(n);
+  for (const auto& x : group[key]) {
+    if (!x.is_number()) throw std::invalid_argument(std::string("snapshot: '") + key + "' holds a non-number");
+    v.push_back(x.get<double>());
+  }
+  return v;
+}
+
+}  // namespace
+
+GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
+  if (!j.is_object() || !j.contains("grains") || !j["grains"].is_object() || !j["grains"].contains("id") ||
+      !j["grains"]["id"].is_array())
+    throw std::invalid_argument("snapshot: no grains");
+  const auto& g = j["grains"];
+  const std::size_t n = g["id"].size();
+  GrainSnapshot s;
+  s.strain = j.value("strain", 0.0);
+  s.step = j.value("step", std::uint64_t(0));
+  for (double id : numbers(g, "id", n)) s.id.push_back(GrainId(std::uint32_t(id)));
+  const auto x = numbers(g, "x", n), y = numbers(g, "y", n), z = numbers(g, "z", n);
+  const auto dx = numbers(g, "dx", n), dy = numbers(g, "dy", n), dz = numbers(g, "dz", n);
+  const auto qw = numbers(g, "qw", n), qx = numbers(g, "qx", n), qy = numbers(g, "qy", n), qz = numbers(g, "qz", n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.position.emplace_back(x[i], y[i], z[i]);
+    s.displacement.emplace_back(dx[i], dy[i], dz[i]);
+    s.orientation.emplace_back(qw[i], qx[i], qy[i], qz[i]);
+  }
+  s.penetration = numbers(g, "penetration", n);
+  s.penetration_ratio = numbers(g, "penetration_ratio", n);
+  s.max_shear_strain = numbers(g, "max_shear_strain", n);
+  s.equivalent_strain = numbers(g, "equivalent_strain", n);
+  const nlohmann::json empty = nlohmann::json::object();
+  const auto& f = j.contains("interfaces") && j["interfaces"].is_object() ? j["interfaces"] : empty;
+  const std::size_t m = f.contains("a") && f["a"].is_array() ? f["a"].size() : 0;
+  if (m) {
+    const auto a = numbers(f, "a", m), b = numbers(f, "b", m);
+    for (std::size_t k = 0; k < m; ++k) s.interfaces.push_back({GrainId(std::uint32_t(a[k])), GrainId(std::uint32_t(b[k]))});
+    s.sliding = numbers(f, "sliding", m);
+  }
+  return s;
+}
+
 std::string snapshot_lammps_dump(const GrainSnapshot& s) {
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const Vec3& x : s.position) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
@@ -58,14 +109,16 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
     std::snprintf(buf, sizeof buf, "%.9g %.9g\n", lo[k], hi[k]);
     out += buf;
   }
-  out += "ITEM: ATOMS id x y z dx dy dz quatw quati quatj quatk penetration penetration_ratio max_shear_strain "
-         "equivalent_strain\n";
+  // radius: the grain's inscribed sphere (half the neighbour distance), so OVITO draws touching grains.
+  const double radius = 0.5 * neighbour_distance(s);
+  out += "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
+         "max_shear_strain equivalent_strain\n";
   char line[512];
   for (std::size_t i = 0; i < s.id.size(); ++i) {
     const Vec3 &x = s.position[i], &d = s.displacement[i];
     const Quat& q = s.orientation[i];
-    std::snprintf(line, sizeof line, "%u %.9g %.9g %.9g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g\n",
-                  value(s.id[i]), x.x(), x.y(), x.z(), d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(), s.penetration[i],
+    std::snprintf(line, sizeof line, "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g\n",
+                  value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(), s.penetration[i],
                   s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i]);
     out += line;
   }
@@ -112,6 +165,28 @@ std::string snapshot_interfaces_vtk(const GrainSnapshot& s) {
   char buf[40];
   for (double x : s.sliding) std::snprintf(buf, sizeof buf, "%.6g\n", x), out += buf;
   return out;
+}
+
+double neighbour_distance(const GrainSnapshot& s) {
+  std::unordered_map<std::uint32_t, std::size_t> index;
+  for (std::size_t i = 0; i < s.id.size(); ++i) index[value(s.id[i])] = i;
+  std::vector<double> d;
+  for (const GrainPair& p : s.interfaces) {
+    const auto a = index.find(value(p.a)), b = index.find(value(p.b));
+    if (a == index.end() || b == index.end()) continue;
+    d.push_back(((s.position[a->second] - s.displacement[a->second]) - (s.position[b->second] - s.displacement[b->second])).norm());
+  }
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return d[d.size() / 2];
+}
+
+std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s) {
+  const std::string stem = "snapshots/snapshot_" + std::to_string(k);
+  return {{stem + ".json", snapshot_json(s).dump() + "\n"},
+          {stem + ".dump", snapshot_lammps_dump(s)},
+          {stem + "_grains.vtk", snapshot_grains_vtk(s)},
+          {stem + "_interfaces.vtk", snapshot_interfaces_vtk(s)}};
 }
 
 }  // namespace granulab::api

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -12,8 +13,22 @@
 namespace granulab::api {
 
 nlohmann::json snapshot_json(const GrainSnapshot& s);
+/// The inverse of snapshot_json (what the server stored back into a snapshot, for the other formats and
+/// pictures); throws std::invalid_argument naming what is missing or inconsistent.
+GrainSnapshot snapshot_from_json(const nlohmann::json& j);
 std::string snapshot_lammps_dump(const GrainSnapshot& s);
 std::string snapshot_grains_vtk(const GrainSnapshot& s);
 std::string snapshot_interfaces_vtk(const GrainSnapshot& s);
+
+/// One file of a snapshot: its name in a results folder (e.g. "snapshots/snapshot_2.dump") and text.
+struct SnapshotFile {
+  std::string name, text;
+};
+/// Snapshot k in every format, as `granulab run` writes them and the server's archive holds them:
+/// snapshot_k.json, snapshot_k.dump, snapshot_k_grains.vtk and snapshot_k_interfaces.vtk.
+std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s);
+/// The FCC nearest-neighbour distance of the reference state (median over the interfaces, m); the
+/// grains' inscribed radius is half of it. 0 when the snapshot has no interfaces.
+double neighbour_distance(const GrainSnapshot& s);
 
 }  // namespace granulab::api

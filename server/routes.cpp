@@ -23,6 +23,7 @@
 #include "api/spec_docs.h"
 #include "api/sweep.h"
 #include "api/bounded_json.h"
+#include "server/route_helpers.h"
 #include "server/store/sqlite.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
@@ -108,96 +109,8 @@ class LoopServer : public httplib::Server {
   }
 };
 
-namespace {
-
 using nlohmann::json;
-
-void reply(httplib::Response& res, int status, const json& body) {
-  res.status = status;
-  // Messages may quote what a request sent: invalid UTF-8 is replaced, never thrown on.
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace) + "\n", "application/json");
-}
-
-// A path id of 1 to 18 digits (the route's regex has already checked they are digits); anything longer
-// cannot be a job, snapshot or row number, so it is simply not found. No exception either way.
-std::optional<std::int64_t> path_id(const std::string& digits) {
-  if (digits.empty() || digits.size() > 18) return std::nullopt;
-  std::int64_t v = 0;
-  for (char c : digits) {
-    if (c < '0' || c > '9') return std::nullopt;
-    v = 10 * v + (c - '0');
-  }
-  return v;
-}
-
-void error(httplib::Response& res, int status, const std::string& code, const std::string& message,
-           const std::string& field = "") {
-  reply(res, status, {{"error", {{"code", code}, {"message", message}, {"field", field}}}});
-}
-
-json job_json(const JobRecord& j, bool full) {
-  json out = {{"id", j.id},
-              {"status", j.status},
-              {"label", j.label},
-              {"experiment", j.experiment},
-              {"progress", j.progress},
-              {"created_ms", j.created_ms},
-              {"started_ms", j.started_ms},
-              {"finished_ms", j.finished_ms},
-              {"priority", j.priority}};
-  if (j.eta_seconds >= 0 && j.status == "running") out["eta_seconds"] = j.eta_seconds;
-  if (!j.error.empty()) out["error"] = j.error;
-  if (!j.owner.empty()) out["owner"] = j.owner;
-  if (j.sweep_id != 0) {
-    out["sweep_id"] = j.sweep_id;
-    out["sweep_values"] = json::parse(j.sweep_values, nullptr, false);
-  }
-  if (full) {
-    out["spec"] = json::parse(j.spec_json);
-    out["spec_hash"] = j.spec_hash;
-    out["engine_version"] = j.engine_version;
-    if (!j.summary_json.empty()) out["summary"] = json::parse(j.summary_json);
-  }
-  return out;
-}
-
-// Only the query parameters a route knows: `?resue=true` is a typo to report, not to ignore.
-httplib::Server::Handler only(std::vector<std::string> known, httplib::Server::Handler handler) {
-  return [known = std::move(known), handler = std::move(handler)](const httplib::Request& req, httplib::Response& res) {
-    // The URL's own query, not req.params: cpp-httplib also puts a form-encoded body's fields there.
-    httplib::Params query;
-    const auto mark = req.target.find('?');
-    if (mark != std::string::npos) httplib::detail::parse_query_text(req.target.substr(mark + 1), query);
-    for (const auto& [name, value] : query) {
-      if (std::find(known.begin(), known.end(), name) != known.end()) continue;
-      std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      return error(res, 400, "unknown_parameter",
-                   "unknown query parameter '" + name + "' (" +
-                       (known.empty() ? std::string("this route takes none") : "this route takes: " + list) + ")",
-                   name);
-    }
-    handler(req, res);
-  };
-}
-
-// Query integers with a range; a bad value is a 400 that names the parameter.
-bool query_int(const httplib::Request& req, httplib::Response& res, const char* name, long lo, long hi, long& value) {
-  if (!req.has_param(name)) return true;
-  const std::string text = req.get_param_value(name);
-  const bool negative = !text.empty() && text[0] == '-';
-  if (const auto v = path_id(negative ? text.substr(1) : text)) {
-    value = negative ? -*v : *v;
-    if (value >= lo && value <= hi) return true;
-  }
-  error(res, 400, "out_of_range",
-        std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-            "], got '" + text + "'",
-        name);
-  return false;
-}
-
-}  // namespace
+using namespace http;
 
 std::map<std::string, User> read_token_file(const std::string& path, std::string* warning) {
   std::ifstream in(path);
@@ -430,91 +343,12 @@ void HttpServer::stop() {
   if (http_->is_running()) http_->stop();
 }
 
-void HttpServer::sweep_routes() {
-  // A sweep: every point validated (and within the budget and the quota) before any job is created.
-  http_->Post("/v1/sweeps", only({"priority"}, [this](const httplib::Request& req, httplib::Response& res) {
-    api::Sweep sweep;
-    try {
-      sweep = api::parse_sweep(api::parse_bounded_json(req.body), std::size_t(options_.max_jobs_per_sweep));
-    } catch (const api::SpecError& e) {
-      return error(res, 400, e.code, e.what(), e.field);
-    }
-    long priority = 0;
-    if (!query_int(req, res, "priority", -100, 100, priority)) return;
-    for (const api::SweepPoint& p : sweep.points)
-      if (!within_budget(p.spec, res)) return;
-    const User who = caller(req).value_or(User{});
-    if (!within_queue_quota(who, sweep.points.size(), res)) return;
-    std::vector<JobStore::SweepJob> jobs;
-    for (const api::SweepPoint& p : sweep.points) {
-      std::string label = sweep.label.empty() ? p.spec.label : sweep.label;
-      for (const auto& [key, value] : p.values.items()) label += " " + key + "=" + value.dump();
-      jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
-                      api::spec_hash(p.spec.normalized), p.values.dump()});
-    }
-    SweepRecord record;
-    record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;
-    record.base_json = sweep.base.dump(), record.vary_json = sweep.vary.dump();
-    const auto [id, ids] = store_.submit_sweep(record, jobs, api::engine_version(), int(priority));
-    pool_.notify();
-    reply(res, 201, {{"id", id}, {"jobs", ids}});
-  }));
-
-  http_->Get("/v1/sweeps", only({"owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
-    long limit = 50, offset = 0;
-    if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
-    const auto owner = listing_owner(req, res, "sweeps");
-    if (!owner) return;
-    json sweeps = json::array();
-    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, *owner))
-      sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
-                        {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
-    reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
-  }));
-
-  // Its jobs with their values, status, progress, and (when done) first yield and peak.
-  http_->Get(R"(/v1/sweeps/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto sweep = sweep_for(req, res, "read", false);
-    if (!sweep) return;
-    json jobs = json::array();
-    std::map<std::string, int> counts;
-    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
-      json item = {{"id", j.id},
-                   {"status", j.status},
-                   {"progress", j.progress},
-                   {"values", json::parse(j.sweep_values, nullptr, false)}};
-      if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
-      if (!j.error.empty()) item["error"] = j.error;
-      if (!j.summary_json.empty()) {
-        const json summary = json::parse(j.summary_json, nullptr, false);
-        for (const char* key : {"first_yield", "peak"})
-          if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
-      }
-      ++counts[j.status];
-      jobs.push_back(item);
-    }
-    reply(res, 200,
-          {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
-           {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
-           {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
-  }));
-
-  // Cancels what has not finished: queued jobs at once, running ones within a second.
-  http_->Post(R"(/v1/sweeps/(\d+)/cancel)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto sweep = sweep_for(req, res, "cancel", true);
-    if (!sweep) return;
-    int cancelled = 0, requested = 0;
-    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
-      const auto r = store_.request_cancel(j.id);
-      cancelled += r == JobStore::CancelResult::cancelled_queued;
-      requested += r == JobStore::CancelResult::requested_running;
-    }
-    reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
-  }));
-}
+httplib::Server& HttpServer::router() { return *http_; }
 
 void HttpServer::routes() {
   sweep_routes();
+  picture_routes();
+  export_routes();
   http_->Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
     reply(res, 200,
           {{"status", "ok"},
@@ -648,15 +482,6 @@ void HttpServer::routes() {
     json list = json::array();
     for (const auto& s : store_.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
     reply(res, 200, {{"snapshots", list}});
-  }));
-
-  http_->Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto job = job_for(req, res, "read", false);
-    if (!job) return;
-    const auto index = path_id(req.matches[2]);
-    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
-    if (!blob) return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
-    res.set_content(std::string(blob->begin(), blob->end()), "application/json");
   }));
 }
 

@@ -16,6 +16,7 @@
 namespace httplib {
 struct Request;
 struct Response;
+class Server;
 }  // namespace httplib
 
 namespace granulab::api {
@@ -83,7 +84,11 @@ class HttpServer {
   std::optional<std::string> listing_owner(const httplib::Request& req, httplib::Response& res, const char* what);
   /// False (and a 429 naming the limit) when `who` may not queue `more` jobs.
   bool within_queue_quota(const User& who, std::size_t more, httplib::Response& res);
-  void sweep_routes();
+  /// The route table (cpp-httplib's server, whose type only routes.cpp sees).
+  httplib::Server& router();
+  void sweep_routes();    // sweep_routes.cpp
+  void picture_routes();  // picture_routes.cpp
+  void export_routes();   // export_routes.cpp
   JobStore& store_;
   WorkerPool& pool_;
   HttpOptions options_;

@@ -90,11 +90,7 @@ void FilesSink::curve_row(const std::vector<double>& values) {
 }
 
 void FilesSink::snapshot(std::size_t k, const GrainSnapshot& s) {
-  const std::string stem = (dir_ / "snapshots" / ("snapshot_" + std::to_string(k))).string();
-  write_file(stem + ".json", api::snapshot_json(s).dump() + "\n");
-  write_file(stem + ".dump", api::snapshot_lammps_dump(s));
-  write_file(stem + "_grains.vtk", api::snapshot_grains_vtk(s));
-  write_file(stem + "_interfaces.vtk", api::snapshot_interfaces_vtk(s));
+  for (const api::SnapshotFile& f : api::snapshot_files(k, s)) write_file(dir_ / f.name, f.text);
 }
 
 void FilesSink::summary(const nlohmann::json& summary) {

@@ -1,0 +1,218 @@
+#include "api/pictures/section_picture.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "api/pictures/colour_map.h"
+#include "api/snapshot_files.h"
+#include "api/pictures/svg_text.h"
+
+namespace granulab::pictures {
+
+namespace {
+
+struct FieldInfo {
+  const char* name;
+  const char* label;  // colour bar caption, with unit
+  double scale;       // stored value -> shown value
+};
+
+FieldInfo info(Field f) {
+  switch (f) {
+    case Field::severity: return {"severity", "contact severity Δ/Δ̄ (-)", 1};
+    case Field::gamma_max: return {"gamma_max", "max shear strain γmax (-)", 1};
+    case Field::equivalent_strain: return {"equivalent_strain", "equivalent strain (-)", 1};
+    case Field::displacement: return {"displacement", "displacement (mm)", 1e3};
+  }
+  return {"", "", 1};
+}
+
+double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
+  switch (f) {
+    case Field::severity: return s.penetration_ratio[i];
+    case Field::gamma_max: return s.max_shear_strain[i];
+    case Field::equivalent_strain: return s.equivalent_strain[i];
+    case Field::displacement: return s.displacement[i].norm();
+  }
+  return 0;
+}
+
+// Lattice measures from the reference state (position - displacement).
+struct Layers {
+  double neighbour = 0;   // FCC nearest-neighbour distance a'/sqrt2 (m)
+  std::vector<int> layer; // per grain
+  int count = 0;
+};
+
+Layers find_layers(const GrainSnapshot& s) {
+  Layers out;
+  const std::size_t n = s.id.size();
+  out.neighbour = api::neighbour_distance(s);
+  if (!(out.neighbour > 0)) out.neighbour = 1;
+  // {111} layers are a'/sqrt3 = neighbour sqrt(2/3) apart along y.
+  const double spacing = out.neighbour * std::sqrt(2.0 / 3.0);
+  double lowest = 1e300;
+  for (std::size_t i = 0; i < n; ++i) lowest = std::min(lowest, s.position[i].y() - s.displacement[i].y());
+  out.layer.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out.layer[i] = int(std::lround((s.position[i].y() - s.displacement[i].y() - lowest) / spacing));
+    out.count = std::max(out.count, out.layer[i] + 1);
+  }
+  return out;
+}
+
+// The rhombic dodecahedron of cubic cell a in its body frame: six 4-fold vertices (a/2 on each axis), eight 3-fold
+// ones (a/4, a/4, a/4), and 24 edges joining each 3-fold vertex to the three 4-fold ones on its side.
+std::vector<std::array<Vec3, 2>> dodecahedron_edges(double a) {
+  std::vector<std::array<Vec3, 2>> edges;
+  for (int sx : {-1, 1})
+    for (int sy : {-1, 1})
+      for (int sz : {-1, 1}) {
+        const Vec3 corner = 0.25 * a * Vec3(sx, sy, sz);
+        edges.push_back({corner, Vec3(0.5 * a * sx, 0, 0)});
+        edges.push_back({corner, Vec3(0, 0.5 * a * sy, 0)});
+        edges.push_back({corner, Vec3(0, 0, 0.5 * a * sz)});
+      }
+  return edges;
+}
+
+// The cross-section of grain i by the plane y = its centre's y, as (x, z) points in order around it.
+std::vector<std::array<double, 2>> cross_section(const std::vector<std::array<Vec3, 2>>& edges, const Vec3& centre,
+                                                 const Quat& q) {
+  std::vector<std::array<double, 2>> points;
+  const Eigen::Matrix3d R = q.normalized().toRotationMatrix();
+  for (const auto& e : edges) {
+    const Vec3 p = R * e[0], r = R * e[1];  // relative to the centre; the plane is y = 0 here
+    if ((p.y() < 0) == (r.y() < 0) || p.y() == r.y()) continue;
+    const Vec3 x = p + (r - p) * (p.y() / (p.y() - r.y()));
+    points.push_back({centre.x() + x.x(), centre.z() + x.z()});
+  }
+  if (points.size() < 3) return {};
+  double cx = 0, cz = 0;
+  for (const auto& p : points) cx += p[0], cz += p[1];
+  cx /= points.size(), cz /= points.size();
+  std::sort(points.begin(), points.end(), [&](const auto& u, const auto& v) {
+    return std::atan2(u[1] - cz, u[0] - cx) < std::atan2(v[1] - cz, v[0] - cx);
+  });
+  return points;
+}
+
+}  // namespace
+
+std::optional<Field> parse_field(const std::string& name) {
+  for (Field f : {Field::severity, Field::gamma_max, Field::equivalent_strain, Field::displacement})
+    if (name == info(f).name) return f;
+  return std::nullopt;
+}
+
+int layer_count(const GrainSnapshot& s) { return find_layers(s).count; }
+
+std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> layer, const std::string& title) {
+  const Layers layers = find_layers(s);
+  const int chosen = layer.value_or(std::max(0, (layers.count - 1) / 2));
+  if (chosen < 0 || chosen >= std::max(1, layers.count))
+    throw std::out_of_range("'slice' must be a {111} layer from 0 (the front face) to " +
+                            std::to_string(std::max(0, layers.count - 1)) + ", got " + std::to_string(chosen));
+  const FieldInfo fi = info(field);
+  const double a = layers.neighbour * std::sqrt(2.0);
+  const auto edges = dodecahedron_edges(a);
+
+  std::vector<std::size_t> grains;
+  for (std::size_t i = 0; i < s.id.size(); ++i)
+    if (layers.layer[i] == chosen) grains.push_back(i);
+  std::vector<std::vector<std::array<double, 2>>> shapes;
+  double x0 = 1e300, x1 = -1e300, z0 = 1e300, z1 = -1e300, lo = 1e300, hi = -1e300;
+  for (std::size_t i : grains) {
+    shapes.push_back(cross_section(edges, s.position[i], s.orientation[i]));
+    for (const auto& p : shapes.back()) x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), z0 = std::min(z0, p[1]), z1 = std::max(z1, p[1]);
+    const double v = field_value(s, field, i) * fi.scale;
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  if (!(x1 > x0) || !(z1 > z0)) x0 = 0, x1 = 1, z0 = 0, z1 = 1;
+  if (!(hi >= lo)) lo = 0, hi = 1;
+  if (hi - lo < 1e-12 * std::max(1.0, std::abs(hi))) hi = lo + (lo == 0 ? 1 : 0.01 * std::abs(lo));
+
+  // Page: the section scaled to 600 px tall (or 560 wide), a colour bar on its right.
+  const double scale = std::min(600 / (z1 - z0), 560 / (x1 - x0));
+  const double margin = 20, top = 60, pw = (x1 - x0) * scale, ph = (z1 - z0) * scale;
+  const double bar_x = margin + pw + 30, W = bar_x + 130, H = top + ph + 40;
+  const auto X = [&](double x) { return margin + (x - x0) * scale; };
+  const auto Z = [&](double z) { return top + (z1 - z) * scale; };  // z (compression axis) up
+
+  std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
+                    num(W) + "\" height=\"" + num(H) + "\" viewBox=\"0 0 " + num(W) + " " + num(H) +
+                    "\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\" font-size=\"12\">\n"
+                    "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  svg += "<text x=\"" + num(W / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
+         xml_escape(title) + "</text>\n";
+  svg += "<text x=\"" + num(W / 2) + "\" y=\"42\" text-anchor=\"middle\" fill=\"#555\">axial strain " +
+         num(100 * s.strain, 3) + " %, {111} layer " + std::to_string(chosen) + " of 0-" +
+         std::to_string(std::max(0, layers.count - 1)) + ", " + std::to_string(grains.size()) +
+         " grains; compression axis vertical</text>\n";
+  svg += "<g class=\"grains\" stroke=\"#222\" stroke-width=\"0.6\">\n";
+  for (std::size_t k = 0; k < grains.size(); ++k) {
+    if (shapes[k].empty()) continue;
+    const double v = field_value(s, field, grains[k]) * fi.scale;
+    std::string points;
+    for (const auto& p : shapes[k]) points += num(X(p[0]), 6) + "," + num(Z(p[1]), 6) + " ";
+    svg += "<polygon class=\"grain\" data-id=\"" + std::to_string(value(s.id[grains[k]])) + "\" data-value=\"" + num(v, 6) +
+           "\" fill=\"" + viridis((v - lo) / (hi - lo)) + "\" points=\"" + points + "\"/>\n";
+  }
+  svg += "</g>\n";
+
+  // Interfaces within the layer sliding more than twice the mean (over all interfaces), as the trace of
+  // the shared face: through the midpoint, across the branch, one hexagon edge (neighbour / sqrt3) long.
+  double mean = 0;
+  for (double x : s.sliding) mean += std::abs(x);
+  mean = s.sliding.empty() ? 0 : mean / s.sliding.size();
+  std::unordered_map<std::uint32_t, std::size_t> index;
+  for (std::size_t i : grains) index[value(s.id[i])] = i;
+  std::size_t sliding = 0;
+  svg += "<g class=\"sliding\" stroke=\"black\" stroke-width=\"2.2\" stroke-linecap=\"round\">\n";
+  for (std::size_t k = 0; k < s.interfaces.size() && k < s.sliding.size(); ++k) {
+    // The floor (1e-3 of the grain spacing) keeps round-off from drawing lines on an undeformed crystal.
+    if (std::abs(s.sliding[k]) <= std::max(2 * mean, 1e-3 * layers.neighbour)) continue;
+    const auto a_it = index.find(value(s.interfaces[k].a)), b_it = index.find(value(s.interfaces[k].b));
+    if (a_it == index.end() || b_it == index.end()) continue;
+    const Vec3 &pa = s.position[a_it->second], &pb = s.position[b_it->second];
+    const double mx = 0.5 * (pa.x() + pb.x()), mz = 0.5 * (pa.z() + pb.z());
+    double bx = pb.x() - pa.x(), bz = pb.z() - pa.z();
+    const double length = std::hypot(bx, bz);
+    if (!(length > 0)) continue;
+    bx /= length, bz /= length;
+    const double h = 0.5 * layers.neighbour / std::sqrt(3.0);
+    svg += "<line x1=\"" + num(X(mx - h * bz), 6) + "\" y1=\"" + num(Z(mz + h * bx), 6) + "\" x2=\"" + num(X(mx + h * bz), 6) +
+           "\" y2=\"" + num(Z(mz - h * bx), 6) + "\"/>\n";
+    ++sliding;
+  }
+  svg += "</g>\n";
+
+  // Colour bar with five ticks.
+  const double bar_top = top + 10, bar_h = std::min(ph - 20, 360.0);
+  svg += "<g class=\"colour-bar\">\n";
+  for (int k = 0; k < 64; ++k)
+    svg += "<rect x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h * (63 - k) / 64) + "\" width=\"18\" height=\"" +
+           num(bar_h / 64 + 0.5) + "\" fill=\"" + viridis((k + 0.5) / 64) + "\"/>\n";
+  svg += "<rect x=\"" + num(bar_x) + "\" y=\"" + num(bar_top) + "\" width=\"18\" height=\"" + num(bar_h) +
+         "\" fill=\"none\" stroke=\"#333\"/>\n";
+  const auto ticks = nice_ticks(lo, hi, 5);
+  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
+  for (double t : ticks) {
+    if (t < lo || t > hi) continue;
+    const double y = bar_top + bar_h * (1 - (t - lo) / (hi - lo));
+    svg += "<line x1=\"" + num(bar_x + 18) + "\" y1=\"" + num(y) + "\" x2=\"" + num(bar_x + 23) + "\" y2=\"" + num(y) +
+           "\" stroke=\"#333\"/><text x=\"" + num(bar_x + 26) + "\" y=\"" + num(y + 4) + "\">" + tick_label(t, step) +
+           "</text>\n";
+  }
+  svg += "<text transform=\"translate(" + num(bar_x + 95) + "," + num(bar_top + bar_h / 2) +
+         ") rotate(-90)\" text-anchor=\"middle\">" + xml_escape(fi.label) + "</text>\n</g>\n";
+  svg += "<text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 28) + "\" font-size=\"11\">" + std::to_string(sliding) +
+           " interfaces</text><text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 42) +
+           "\" font-size=\"11\">sliding &gt; 2x mean</text>\n";
+  return svg + "</svg>\n";
+}
+
+}  // namespace granulab::pictures

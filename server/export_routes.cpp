@@ -1,0 +1,112 @@
+// Exports of docs/api.md ("Exports"): a snapshot in the format a viewer opens (OVITO reads the LAMMPS
+// dump, ParaView the VTK), and one job's whole result as a tar archive, laid out as `granulab run`
+// writes its folder.
+#include <archive.h>
+#include <archive_entry.h>
+
+#include <ctime>
+#include <memory>
+
+#include "api/pictures/curve_pictures.h"
+#include "api/snapshot_files.h"
+#include "server/routes.h"
+#include "server/route_helpers.h"
+
+namespace granulab::server {
+
+using nlohmann::json;
+using namespace http;
+
+namespace {
+
+// A ustar archive built in memory with libarchive.
+class TarWriter {
+ public:
+  TarWriter() : archive_(archive_write_new(), archive_write_free) {
+    archive_write_set_format_ustar(archive_.get());
+    archive_write_set_bytes_in_last_block(archive_.get(), 1);  // no padding to 10 KiB
+    archive_write_open(archive_.get(), &out_, nullptr, &TarWriter::append, nullptr);
+  }
+  void add(const std::string& name, const std::string& text) {
+    std::unique_ptr<archive_entry, void (*)(archive_entry*)> entry(archive_entry_new(), archive_entry_free);
+    archive_entry_set_pathname(entry.get(), name.c_str());
+    archive_entry_set_size(entry.get(), la_int64_t(text.size()));
+    archive_entry_set_filetype(entry.get(), AE_IFREG);
+    archive_entry_set_perm(entry.get(), 0644);
+    archive_entry_set_mtime(entry.get(), std::time(nullptr), 0);
+    if (archive_write_header(archive_.get(), entry.get()) != ARCHIVE_OK ||
+        archive_write_data(archive_.get(), text.data(), text.size()) < 0)
+      throw std::runtime_error(std::string("tar: ") + archive_error_string(archive_.get()));
+  }
+  std::string finish() {
+    archive_write_close(archive_.get());
+    return std::move(out_);
+  }
+
+ private:
+  static la_ssize_t append(archive*, void* out, const void* data, size_t size) {
+    static_cast<std::string*>(out)->append(static_cast<const char*>(data), size);
+    return la_ssize_t(size);
+  }
+  std::string out_;
+  std::unique_ptr<archive, int (*)(archive*)> archive_;
+};
+
+}  // namespace
+
+void HttpServer::export_routes() {
+  // One snapshot: JSON (per-grain and per-interface arrays), a LAMMPS dump, or VTK (grains or interfaces).
+  router().Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", only({"format"}, [this](const httplib::Request& req,
+                                                                           httplib::Response& res) {
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+    if (format != "json" && format != "dump" && format != "vtk" && format != "vtk_interfaces")
+      return error(res, 400, "invalid_value",
+                   "'format' must be one of: json, dump, vtk, vtk_interfaces, got '" + format + "'", "format");
+    const auto index = path_id(req.matches[2]);
+    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
+    if (!blob)
+      return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
+    if (format == "json") return res.set_content(std::string(blob->begin(), blob->end()), "application/json");
+    const GrainSnapshot s = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
+    const std::string name = "job" + std::to_string(job->id) + "_snapshot_" + std::to_string(*index);
+    if (format == "dump") {
+      res.set_header("Content-Disposition", "attachment; filename=\"" + name + ".dump\"");
+      return res.set_content(api::snapshot_lammps_dump(s), "text/plain");
+    }
+    const bool grains = format == "vtk";
+    res.set_header("Content-Disposition",
+                   "attachment; filename=\"" + name + (grains ? "_grains.vtk\"" : "_interfaces.vtk\""));
+    res.set_content(grains ? api::snapshot_grains_vtk(s) : api::snapshot_interfaces_vtk(s), "text/plain");
+  }));
+
+  // Everything of one job: spec.json, summary.json (when it succeeded), curve.csv, curve.svg and every
+  // snapshot in every format, under job_<id>/.
+  router().Get(R"(/v1/jobs/(\d+)/archive)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const std::string dir = "job_" + std::to_string(job->id) + "/";
+    TarWriter tar;
+    const json spec = json::parse(job->spec_json, nullptr, false);
+    tar.add(dir + "spec.json", spec.dump(2) + "\n");
+    if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");
+    if (const auto csv = job->status == "succeeded" ? store_.curve_csv(job->id) : store_.live_curve_csv(job->id)) {
+      tar.add(dir + "curve.csv", *csv);
+      if (const auto curve = curve_columns(store_, *job))
+        tar.add(dir + "curve.svg",
+                pictures::line_plot_svg(pictures::job_curve_plot(
+                    spec, *curve, job->summary_json.empty() ? json() : json::parse(job->summary_json))));
+    }
+    for (const auto& info : store_.snapshots(job->id)) {
+      const auto blob = store_.snapshot(job->id, info.index);
+      if (!blob) continue;
+      const GrainSnapshot s = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
+      for (const api::SnapshotFile& f : api::snapshot_files(std::size_t(info.index), s)) tar.add(dir + f.name, f.text);
+    }
+    res.set_header("Content-Disposition", "attachment; filename=\"job_" + std::to_string(job->id) + ".tar\"");
+    res.set_content(tar.finish(), "application/x-tar");
+  }));
+}
+
+}  // namespace granulab::server

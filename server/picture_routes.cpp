@@ -1,0 +1,95 @@
+// The pictures of docs/api.md ("Pictures"): curves and grain sections drawn by the server as SVG, so a
+// browser or any image viewer shows results without a plotting library. Running jobs draw what they
+// have so far.
+#include "api/pictures/curve_pictures.h"
+#include "api/pictures/section_picture.h"
+#include "api/snapshot_files.h"
+#include "server/routes.h"
+#include "server/route_helpers.h"
+
+namespace granulab::server {
+
+using nlohmann::json;
+using namespace http;
+
+namespace {
+
+constexpr std::size_t max_sweep_curves = 50;  // beyond this a legend is unreadable
+
+json parsed(const std::string& text) {
+  json j = json::parse(text, nullptr, false);
+  return j.is_discarded() ? json() : j;
+}
+
+std::string label_of(const json& spec) {
+  return spec.is_object() && spec.contains("label") && spec["label"].is_string() ? spec["label"].get<std::string>() : "";
+}
+
+}  // namespace
+
+void HttpServer::picture_routes() {
+  router().Get(R"(/v1/jobs/(\d+)/curve\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const auto curve = curve_columns(store_, *job);
+    if (!curve)
+      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + " and has no curve yet");
+    pictures::LinePlot plot = pictures::job_curve_plot(parsed(job->spec_json), *curve, parsed(job->summary_json));
+    if (plot.title.empty()) plot.title = "job " + std::to_string(job->id);
+    if (job->status != "succeeded") plot.title += " (" + job->status + ")";
+    res.set_content(pictures::line_plot_svg(plot), "image/svg+xml");
+  }));
+
+  router().Get(R"(/v1/sweeps/(\d+)/curves\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
+    const auto sweep = sweep_for(req, res, "read", false);
+    if (!sweep) return;
+    std::vector<pictures::SweepCurve> curves;
+    std::size_t left_out = 0;
+    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+      if (curves.size() == max_sweep_curves) {
+        ++left_out;
+        continue;
+      }
+      curves.push_back({parsed(j.sweep_values), parsed(j.spec_json), curve_columns(store_, j).value_or(json::object()), j.status});
+    }
+    const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
+    res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out)), "image/svg+xml");
+  }));
+
+  router().Get(R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", only({"field", "slice"}, [this](const httplib::Request& req,
+                                                                                        httplib::Response& res) {
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    const std::string field_name = req.has_param("field") ? req.get_param_value("field") : "equivalent_strain";
+    const auto field = pictures::parse_field(field_name);
+    if (!field)
+      return error(res, 400, "invalid_value",
+                   "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, got '" + field_name + "'",
+                   "field");
+    std::optional<int> layer;
+    if (req.has_param("slice")) {
+      long value = 0;
+      if (!query_int(req, res, "slice", 0, 1 << 20, value)) return;
+      layer = int(value);
+    }
+    const auto index = path_id(req.matches[2]);
+    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
+    if (!blob)
+      return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(job->id));
+    GrainSnapshot snapshot;
+    try {
+      snapshot = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
+    } catch (const std::exception& e) {
+      return error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
+    }
+    const std::string title = label_of(parsed(job->spec_json));
+    try {
+      res.set_content(pictures::section_svg(snapshot, *field, layer, title.empty() ? "job " + std::to_string(job->id) : title),
+                      "image/svg+xml");
+    } catch (const std::out_of_range& e) {
+      error(res, 400, "out_of_range", e.what(), "slice");
+    }
+  }));
+}
+
+}  // namespace granulab::server

@@ -1,0 +1,98 @@
+// The sweep routes of docs/api.md ("Sweeps"): a sweep is validated whole before any of its jobs exists.
+#include "api/bounded_json.h"
+#include "api/spec.h"
+#include "api/sweep.h"
+#include "api/engine_version.h"
+#include "api/runner.h"
+#include "server/routes.h"
+#include "server/route_helpers.h"
+
+namespace granulab::server {
+
+using nlohmann::json;
+using namespace http;
+
+void HttpServer::sweep_routes() {
+  // A sweep: every point validated (and within the budget and the quota) before any job is created.
+  router().Post("/v1/sweeps", only({"priority"}, [this](const httplib::Request& req, httplib::Response& res) {
+    api::Sweep sweep;
+    try {
+      sweep = api::parse_sweep(api::parse_bounded_json(req.body), std::size_t(options_.max_jobs_per_sweep));
+    } catch (const api::SpecError& e) {
+      return error(res, 400, e.code, e.what(), e.field);
+    }
+    long priority = 0;
+    if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    for (const api::SweepPoint& p : sweep.points)
+      if (!within_budget(p.spec, res)) return;
+    const User who = caller(req).value_or(User{});
+    if (!within_queue_quota(who, sweep.points.size(), res)) return;
+    std::vector<JobStore::SweepJob> jobs;
+    for (const api::SweepPoint& p : sweep.points) {
+      std::string label = sweep.label.empty() ? p.spec.label : sweep.label;
+      for (const auto& [key, value] : p.values.items()) label += " " + key + "=" + value.dump();
+      jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
+                      api::spec_hash(p.spec.normalized), p.values.dump()});
+    }
+    SweepRecord record;
+    record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;
+    record.base_json = sweep.base.dump(), record.vary_json = sweep.vary.dump();
+    const auto [id, ids] = store_.submit_sweep(record, jobs, api::engine_version(), int(priority));
+    pool_.notify();
+    reply(res, 201, {{"id", id}, {"jobs", ids}});
+  }));
+
+  router().Get("/v1/sweeps", only({"owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
+    long limit = 50, offset = 0;
+    if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
+    const auto owner = listing_owner(req, res, "sweeps");
+    if (!owner) return;
+    json sweeps = json::array();
+    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, *owner))
+      sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
+                        {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
+    reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
+  }));
+
+  // Its jobs with their values, status, progress, and (when done) first yield and peak.
+  router().Get(R"(/v1/sweeps/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
+    const auto sweep = sweep_for(req, res, "read", false);
+    if (!sweep) return;
+    json jobs = json::array();
+    std::map<std::string, int> counts;
+    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+      json item = {{"id", j.id},
+                   {"status", j.status},
+                   {"progress", j.progress},
+                   {"values", json::parse(j.sweep_values, nullptr, false)}};
+      if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
+      if (!j.error.empty()) item["error"] = j.error;
+      if (!j.summary_json.empty()) {
+        const json summary = json::parse(j.summary_json, nullptr, false);
+        for (const char* key : {"first_yield", "peak"})
+          if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
+      }
+      ++counts[j.status];
+      jobs.push_back(item);
+    }
+    reply(res, 200,
+          {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
+           {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
+           {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
+  }));
+
+  // Cancels what has not finished: queued jobs at once, running ones within a second.
+  router().Post(R"(/v1/sweeps/(\d+)/cancel)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
+    const auto sweep = sweep_for(req, res, "cancel", true);
+    if (!sweep) return;
+    int cancelled = 0, requested = 0;
+    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+      const auto r = store_.request_cancel(j.id);
+      cancelled += r == JobStore::CancelResult::cancelled_queued;
+      requested += r == JobStore::CancelResult::requested_running;
+    }
+    reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
+  }));
+}
+
+}  // namespace granulab::server
