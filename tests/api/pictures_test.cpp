@@ -1,0 +1,252 @@
+// The server's pictures: the section of a crystal snapshot is the lattice's own geometry (one hexagon of
+// the {111} layer's Voronoi area per grain, turned with the grain), only interfaces sliding beyond the
+// threshold are drawn, axes get 1-2-5 ticks, any text is escaped into well-formed XML, and snapshots
+// survive the JSON round trip the server stores them through.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "api/pictures/line_plot.h"
+#include "api/pictures/section_picture.h"
+#include "api/pictures/svg_text.h"
+#include "api/snapshot_files.h"
+#include "engine/crystal/crystal_lattice.h"
+
+namespace granulab::pictures {
+namespace {
+
+constexpr double kSize = 0.01;  // a (m)
+
+// The reference state of a 4 x 6 x 3 crystal (no pre-strain): every grain at its site, turned like the
+// lattice, with its 12-neighbour interfaces; fields set to the grain index so colours can be traced.
+GrainSnapshot reference_crystal() {
+  CrystalGeometry g;
+  g.size = kSize;
+  g.grains_x = 4, g.rows_z = 6, g.layers_y = 3;
+  const CrystalLattice lattice = build_crystal(g);
+  GrainSnapshot s;
+  for (const LatticeSite& site : lattice.sites) {
+    s.id.push_back(site.id);
+    s.position.push_back(site.position);
+    s.displacement.push_back(Vec3::Zero());
+    s.orientation.push_back(lattice.orientation);
+    const double v = double(s.id.size());
+    s.penetration.push_back(v), s.penetration_ratio.push_back(v), s.max_shear_strain.push_back(v),
+        s.equivalent_strain.push_back(v);
+  }
+  const double d = kSize / std::sqrt(2.0);
+  for (std::size_t i = 0; i < s.id.size(); ++i)
+    for (std::size_t j = i + 1; j < s.id.size(); ++j)
+      if ((s.position[i] - s.position[j]).norm() < 1.1 * d) s.interfaces.push_back({s.id[i], s.id[j]}), s.sliding.push_back(0);
+  return s;
+}
+
+struct Polygon {
+  std::vector<std::array<double, 2>> points;
+  double area() const {
+    double a = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const auto &p = points[k], &q = points[(k + 1) % points.size()];
+      a += p[0] * q[1] - q[0] * p[1];
+    }
+    return std::abs(a) / 2;
+  }
+};
+
+std::vector<Polygon> grains_of(const std::string& svg) {
+  std::vector<Polygon> out;
+  static const std::regex polygon(R"re(<polygon class="grain"[^>]* points="([^"]*)")re");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), polygon); it != std::sregex_iterator(); ++it) {
+    Polygon p;
+    std::istringstream in((*it)[1].str());
+    double x, y;
+    char comma;
+    while (in >> x >> comma >> y) p.points.push_back({x, y});
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+Vec3 centroid(const Polygon& p) {
+  Vec3 c = Vec3::Zero();
+  for (const auto& v : p.points) c += Vec3(v[0], v[1], 0) / double(p.points.size());
+  return c;
+}
+
+TEST(SectionPicture, EveryGrainOfTheLayerIsAHexagonOfTheLayersVoronoiArea) {
+  const GrainSnapshot s = reference_crystal();
+  ASSERT_EQ(layer_count(s), 3);
+  for (int layer : {0, 1, 2}) {
+    const std::vector<Polygon> grains = grains_of(section_svg(s, Field::severity, layer, "t"));
+    ASSERT_EQ(grains.size(), 24u) << "layer " << layer;  // 4 x 6 grains per {111} layer
+    // The in-layer neighbour distance in pixels, from the hexagons' centres; the Voronoi cell of a
+    // triangular lattice of spacing d has area sqrt(3)/2 d^2, so each hexagon has exactly that area:
+    // the sections tile the layer without gaps or overlaps.
+    double d = 1e300;
+    for (std::size_t i = 0; i < grains.size(); ++i)
+      for (std::size_t j = i + 1; j < grains.size(); ++j) d = std::min(d, (centroid(grains[i]) - centroid(grains[j])).norm());
+    for (const Polygon& p : grains) {
+      EXPECT_EQ(p.points.size(), 6u);
+      EXPECT_NEAR(p.area(), std::sqrt(3.0) / 2 * d * d, 1e-4 * d * d);  // coordinates have 6 significant digits
+    }
+  }
+}
+
+TEST(SectionPicture, AGrainTurnedAboutTheLayerNormalIsDrawnTurned) {
+  GrainSnapshot s = reference_crystal();
+  const std::string before = section_svg(s, Field::severity, 1, "t");
+  // Turn every grain of the crystal by 30 degrees about lab y (the {111} normal): the hexagons turn by 30
+  // degrees, which (for a hexagon) moves each vertex to the middle of an old edge: areas unchanged,
+  // vertex angles shifted by 30 degrees.
+  const Quat turn(Eigen::AngleAxisd(M_PI / 6, Vec3::UnitY()));
+  for (Quat& q : s.orientation) q = turn * q;
+  const auto a = grains_of(before), b = grains_of(section_svg(s, Field::severity, 1, "t"));
+  ASSERT_EQ(a.size(), b.size());
+  auto angles = [](const Polygon& p) {
+    double cx = 0, cy = 0;
+    for (const auto& v : p.points) cx += v[0] / p.points.size(), cy += v[1] / p.points.size();
+    std::vector<double> out;
+    for (const auto& v : p.points) out.push_back(std::fmod(std::atan2(v[1] - cy, v[0] - cx) + 2 * M_PI, M_PI / 3));
+    return out;
+  };
+  // The picture's scale follows the turned hexagons' bounding box: compare areas in units of the (unmoved)
+  // centre spacing.
+  const auto spacing = [](const std::vector<Polygon>& g) {
+    double d = 1e300;
+    for (std::size_t j = 1; j < g.size(); ++j) d = std::min(d, (centroid(g[0]) - centroid(g[j])).norm());
+    return d;
+  };
+  EXPECT_NEAR(b[0].area() / std::pow(spacing(b), 2), a[0].area() / std::pow(spacing(a), 2), 1e-4);
+  const double shift = std::fmod(angles(b[0])[0] - angles(a[0])[0] + 2 * M_PI, M_PI / 3);
+  EXPECT_NEAR(shift, M_PI / 6, 1e-3);
+}
+
+TEST(SectionPicture, OnlyInterfacesOfTheLayerSlidingOverTwiceTheMeanAreDrawn) {
+  GrainSnapshot s = reference_crystal();
+  const double d = kSize / std::sqrt(2.0);
+  const auto lines = [&](int layer) {
+    const std::string svg = section_svg(s, Field::severity, layer, "t");
+    const auto begin = svg.find("<g class=\"sliding\""), end = svg.find("</g>", begin);
+    return count(svg.substr(begin, end - begin), "<line");
+  };
+  EXPECT_EQ(lines(1), 0u);  // nothing slid
+  // Every interface slides 0.01 d (above the 1e-3 d floor); two of layer 1 and one across layers 1-2 slide d.
+  for (double& x : s.sliding) x = 0.01 * d;
+  const auto layer_of = [&](GrainId id) {
+    for (std::size_t i = 0; i < s.id.size(); ++i)
+      if (s.id[i] == id) return int(std::lround((s.position[i].y() - s.position[0].y()) / (d * std::sqrt(2.0 / 3.0))));
+    return -1;
+  };
+  int in_layer = 0, across = 0;
+  for (std::size_t k = 0; k < s.interfaces.size(); ++k) {
+    const int la = layer_of(s.interfaces[k].a), lb = layer_of(s.interfaces[k].b);
+    if (la == 1 && lb == 1 && in_layer < 2) s.sliding[k] = d, ++in_layer;
+    if (la != lb && across < 1) s.sliding[k] = -d, ++across;
+  }
+  ASSERT_EQ(in_layer, 2);
+  EXPECT_EQ(lines(1), 2u);
+  // Uniform sliding: nothing is more than twice the mean.
+  for (double& x : s.sliding) x = 0.05 * d;
+  EXPECT_EQ(lines(1), 0u);
+}
+
+TEST(SectionPicture, ASliceOutsideTheCrystalNamesTheValidLayers) {
+  const GrainSnapshot s = reference_crystal();
+  try {
+    section_svg(s, Field::gamma_max, 3, "t");
+    FAIL() << "slice 3 of 3 layers accepted";
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("0 (the front face) to 2"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(parse_field("displacement"));
+  EXPECT_FALSE(parse_field("Displacement"));
+  EXPECT_FALSE(parse_field(""));
+}
+
+TEST(Ticks, AreOneTwoOrFiveTimesAPowerOfTenAndCoverTheRange) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> exponent(-8, 8), unit(-1, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = std::pow(10.0, exponent(rng));
+    double lo = unit(rng) * scale, hi = lo + std::abs(unit(rng)) * scale + 1e-3 * scale;
+    const std::vector<double> t = nice_ticks(lo, hi);
+    ASSERT_GE(t.size(), 2u) << lo << " " << hi;
+    ASSERT_LE(t.size(), 13u) << lo << " " << hi;
+    const double step = t[1] - t[0];
+    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step)));
+    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-6 || std::abs(mantissa - 2) < 1e-6 || std::abs(mantissa - 5) < 1e-6 ||
+                std::abs(mantissa - 10) < 1e-6)
+        << step;
+    EXPECT_GE(t.front(), lo - 1e-9 * step);
+    EXPECT_LT(t.front() - step, lo);  // no tick missing at the start
+    EXPECT_LE(t.back(), hi + 1e-9 * step);
+    EXPECT_GT(t.back() + step, hi);  // nor at the end
+  }
+}
+
+TEST(SvgText, EscapesMarkupAndDropsWhatXmlCannotHold) {
+  EXPECT_EQ(xml_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&apos;");
+  EXPECT_EQ(xml_escape("p\xc3\xa9tanque"), "p\xc3\xa9tanque");  // UTF-8 kept
+  EXPECT_EQ(xml_escape("bad\xff\xc3 byte\x01"), "bad byte");     // stray bytes and controls dropped
+  EXPECT_EQ(num(NAN), "0");
+  EXPECT_EQ(num(1.23456789, 3), "1.23");
+}
+
+TEST(LinePlot, ThinsLongSeriesButKeepsTheLatestPointAndSkipsNaN) {
+  LinePlot plot;
+  Series s{"s", {}, {}, "", false};
+  for (int i = 0; i < 5001; ++i) s.x.push_back(i), s.y.push_back(i == 10 ? NAN : std::sin(i));
+  plot.series.push_back(s);
+  const std::string svg = line_plot_svg(plot);
+  const auto begin = svg.find("points=\"", svg.find("class=\"series\"")) + 8;
+  const std::string points = svg.substr(begin, svg.find('"', begin) - begin);
+  const std::size_t n = count(points, ",");
+  EXPECT_LE(n, 2001u);
+  EXPECT_GE(n, 1000u);
+  EXPECT_EQ(points.find("nan"), std::string::npos);
+  // The last point is at the right end of the x axis (5000 is a tick, so it ends the axis).
+  const std::string last = points.substr(points.rfind(' ', points.size() - 2) + 1);
+  const double x_last = std::stod(last);
+  double x_max = 0;
+  std::istringstream in(points);
+  for (double x, y; in >> x && in.ignore(1) && in >> y;) x_max = std::max(x_max, x);
+  EXPECT_EQ(x_last, x_max);
+  EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
+  EXPECT_NE(line_plot_svg(LinePlot{}).find("</svg>"), std::string::npos);  // nothing to draw is still a picture
+}
+
+TEST(SnapshotFiles, JsonRoundTripAndTheDumpsRadiusIsHalfTheNeighbourDistance) {
+  GrainSnapshot s = reference_crystal();
+  s.strain = 0.01, s.step = 1234;
+  s.displacement[3] = Vec3(1e-4, -2e-4, 3e-4);
+  s.sliding[5] = 7e-5;
+  const GrainSnapshot r = api::snapshot_from_json(api::snapshot_json(s));
+  EXPECT_EQ(api::snapshot_json(r), api::snapshot_json(s));
+  EXPECT_EQ(r.step, 1234u);
+  EXPECT_NEAR(api::neighbour_distance(s), kSize / std::sqrt(2.0), 1e-12);
+  const std::string dump = api::snapshot_lammps_dump(s);
+  EXPECT_NE(dump.find("ITEM: ATOMS id x y z radius "), std::string::npos);
+  const auto line = dump.find('\n', dump.find("ITEM: ATOMS")) + 1;
+  std::istringstream first(dump.substr(line));
+  double id, x, y, z, radius;
+  first >> id >> x >> y >> z >> radius;
+  EXPECT_NEAR(radius, kSize / std::sqrt(8.0), 1e-6 * kSize);  // written with 6 significant digits
+  EXPECT_THROW(api::snapshot_from_json(nlohmann::json::object()), std::invalid_argument);
+  nlohmann::json short_one = api::snapshot_json(s);
+  short_one["grains"]["qz"].erase(0);
+  EXPECT_THROW(api::snapshot_from_json(short_one), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace granulab::pictures
