@@ -1,5 +1,6 @@
 #include "api/spec_docs.h"
 
+#include <map>
 #include <sstream>
 
 #include "api/spec.h"
@@ -106,6 +107,90 @@ nlohmann::json experiments_json() {
     list.push_back({{"name", t.name}, {"title", t.title}, {"fields", d.fields}, {"curve_columns", columns}});
   }
   return {{"experiments", list}};
+}
+
+namespace {
+
+// One field of experiments_json() as a JSON Schema; null is allowed everywhere (it means the default).
+nlohmann::json field_schema(const nlohmann::json& f, const nlohmann::json& items) {
+  using nlohmann::json;
+  const std::string type = f["type"];
+  const std::string unit = f.value("unit", "");
+  json s = {{"description", f["meaning"].get<std::string>() + (unit.empty() || unit == "-" ? "" : " (" + unit + ")")},
+            {"default", f["default"]}};
+  if (!unit.empty()) s["x-unit"] = unit;
+  auto bounds = [&](json& target) {
+    if (!f.contains("minimum")) return;
+    if (f.value("exclusive_minimum", false)) target["exclusiveMinimum"] = f["minimum"];
+    else target["minimum"] = f["minimum"];
+    target["maximum"] = f["maximum"];
+  };
+  if (type == "number" || type == "integer") {
+    s["type"] = json::array({type, "null"});
+    bounds(s);
+  } else if (type == "string") {
+    s["type"] = json::array({"string", "null"});
+    if (f.contains("choices")) s["enum"] = f["choices"];
+    if (f.contains("max_length")) s["maxLength"] = f["max_length"];
+  } else {
+    json item = {{"type", type == "array of numbers" ? "number" : type == "array of grain ids" ? "integer" : "object"}};
+    if (type == "array of objects") item = items;
+    else bounds(item);
+    s["type"] = json::array({"array", "null"});
+    s["items"] = item;
+    if (f.contains("max_items")) s["maxItems"] = f["max_items"];
+  }
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json spec_schemas_json() {
+  using nlohmann::json;
+  json schemas = json::object(), one_of = json::array();
+  const json described = experiments_json();  // named: a range over a temporary's member would dangle
+  for (const json& e : described["experiments"]) {
+    const std::string name = e["name"];
+    json spec = {{"type", "object"}, {"title", name}, {"description", e["title"]}, {"additionalProperties", false},
+                 {"properties", json::object()}};
+    // List items first ("a.b[].c" fields), so their lists can take them.
+    std::map<std::string, json> items;
+    for (const json& f : e["fields"]) {
+      const std::string field = f["field"];
+      const auto brackets = field.find("[].");
+      if (brackets == std::string::npos) continue;
+      json& item = items[field.substr(0, brackets)];
+      if (item.is_null()) item = {{"type", "object"}, {"additionalProperties", false}, {"properties", json::object()}};
+      item["properties"][field.substr(brackets + 3)] = field_schema(f, json());
+    }
+    for (const json& f : e["fields"]) {
+      const std::string field = f["field"];
+      if (field.find("[].") != std::string::npos) continue;
+      const auto dot = field.find('.');
+      json schema = field_schema(f, items[field]);
+      if (field == "experiment") {
+        // Which schema a spec follows; only the default experiment may leave it out.
+        schema = {{"const", name}, {"description", "the experiment"}};
+        if (f["default"] == name) schema["default"] = name;
+        else spec["required"] = json::array({"experiment"});
+        spec["properties"]["experiment"] = schema;
+        continue;
+      }
+      if (dot == std::string::npos) {
+        spec["properties"][field] = schema;
+        continue;
+      }
+      json& section = spec["properties"][field.substr(0, dot)];
+      if (section.is_null())
+        section = {{"type", json::array({"object", "null"})}, {"additionalProperties", false}, {"properties", json::object()}};
+      section["properties"][field.substr(dot + 1)] = schema;
+    }
+    schemas["Spec_" + name] = spec;
+    one_of.push_back({{"$ref", "#/components/schemas/Spec_" + name}});
+  }
+  schemas["Spec"] = {{"description", "an experiment's spec (docs/spec.md); a field left out or null takes its default"},
+                     {"oneOf", one_of}};
+  return schemas;
 }
 
 std::string experiments_markdown() {

@@ -7,7 +7,6 @@
 #include <ctime>
 #include <memory>
 
-#include "api/pictures/curve_pictures.h"
 #include "api/snapshot_files.h"
 #include "server/routes.h"
 #include "server/route_helpers.h"
@@ -93,10 +92,7 @@ void HttpServer::export_routes() {
     if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");
     if (const auto csv = job->status == "succeeded" ? store_.curve_csv(job->id) : store_.live_curve_csv(job->id)) {
       tar.add(dir + "curve.csv", *csv);
-      if (const auto curve = curve_columns(store_, *job))
-        tar.add(dir + "curve.svg",
-                pictures::line_plot_svg(pictures::job_curve_plot(
-                    spec, *curve, job->summary_json.empty() ? json() : json::parse(job->summary_json))));
+      if (const auto svg = job_curve_svg(store_, *job)) tar.add(dir + "curve.svg", *svg);
     }
     for (const auto& info : store_.snapshots(job->id)) {
       const auto blob = store_.snapshot(job->id, info.index);

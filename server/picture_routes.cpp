@@ -21,9 +21,6 @@ json parsed(const std::string& text) {
   return j.is_discarded() ? json() : j;
 }
 
-std::string label_of(const json& spec) {
-  return spec.is_object() && spec.contains("label") && spec["label"].is_string() ? spec["label"].get<std::string>() : "";
-}
 
 }  // namespace
 
@@ -31,13 +28,10 @@ void HttpServer::picture_routes() {
   router().Get(R"(/v1/jobs/(\d+)/curve\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "read", false);
     if (!job) return;
-    const auto curve = curve_columns(store_, *job);
-    if (!curve)
+    const auto svg = job_curve_svg(store_, *job);
+    if (!svg)
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + " and has no curve yet");
-    pictures::LinePlot plot = pictures::job_curve_plot(parsed(job->spec_json), *curve, parsed(job->summary_json));
-    if (plot.title.empty()) plot.title = "job " + std::to_string(job->id);
-    if (job->status != "succeeded") plot.title += " (" + job->status + ")";
-    res.set_content(pictures::line_plot_svg(plot), "image/svg+xml");
+    res.set_content(*svg, "image/svg+xml");
   }));
 
   router().Get(R"(/v1/sweeps/(\d+)/curves\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
@@ -82,9 +76,8 @@ void HttpServer::picture_routes() {
     } catch (const std::exception& e) {
       return error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
     }
-    const std::string title = label_of(parsed(job->spec_json));
     try {
-      res.set_content(pictures::section_svg(snapshot, *field, layer, title.empty() ? "job " + std::to_string(job->id) : title),
+      res.set_content(pictures::section_svg(snapshot, *field, layer, job->label.empty() ? "job " + std::to_string(job->id) : job->label),
                       "image/svg+xml");
     } catch (const std::out_of_range& e) {
       error(res, 400, "out_of_range", e.what(), "slice");

@@ -1,4 +1,5 @@
 #include "api/curve_format.h"
+#include "api/pictures/curve_pictures.h"
 #include "server/route_helpers.h"
 
 #include <algorithm>
@@ -101,6 +102,19 @@ std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {
   const auto csv = store.live_curve_csv(job.id);
   if (!csv) return std::nullopt;
   return api::curve_csv_to_json(*csv);
+}
+
+std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job) {
+  const auto curve = curve_columns(store, job);
+  if (!curve) return std::nullopt;
+  const auto parsed = [](const std::string& text) {
+    json j = json::parse(text, nullptr, false);
+    return j.is_discarded() ? json() : j;
+  };
+  pictures::LinePlot plot = pictures::job_curve_plot(parsed(job.spec_json), *curve, parsed(job.summary_json));
+  plot.title = job.label.empty() ? "job " + std::to_string(job.id) : job.label;
+  if (job.status != "succeeded") plot.title += " (" + job.status + ")";
+  return pictures::line_plot_svg(plot);
 }
 
 }  // namespace granulab::server::http

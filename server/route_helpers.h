@@ -30,6 +30,9 @@ bool query_int(const httplib::Request& req, httplib::Response& res, const char* 
 /// The job's curve in the columns form ({"columns": [...], name: [values]}): the stored one of a finished
 /// job, the rows so far of a running one, what a cancelled or failed one computed; nullopt when none.
 std::optional<nlohmann::json> curve_columns(JobStore& store, const JobRecord& job);
+/// The job's curve drawn (api/pictures), titled with its label (or "job N") and, unless it succeeded, its
+/// status; nullopt when it has no rows yet.
+std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job);
 /// The job as GET /v1/jobs lists it (`full`: with spec, hash, version and summary, as GET /v1/jobs/{id}).
 nlohmann::json job_json(const JobRecord& j, bool full);
 

@@ -23,6 +23,7 @@
 #include "api/spec_docs.h"
 #include "api/sweep.h"
 #include "api/bounded_json.h"
+#include "server/openapi.h"
 #include "server/route_helpers.h"
 #include "server/store/sqlite.h"
 
@@ -358,6 +359,12 @@ void HttpServer::routes() {
            {"workers", pool_.workers()},
            {"threads_per_job", pool_.threads_per_job()}});
   });
+
+  // The API described (OpenAPI 3.1): built once, the registry does not change at run time.
+  http_->Get("/v1/openapi.json", only({}, [](const httplib::Request&, httplib::Response& res) {
+    static const std::string document = openapi_document().dump(1) + "\n";
+    res.set_content(document, "application/json");
+  }));
 
   // Every registered experiment: its spec fields (default, range, unit, meaning) and curve columns.
   http_->Get("/v1/experiments", only({}, [](const httplib::Request&, httplib::Response& res) {

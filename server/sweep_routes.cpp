@@ -29,8 +29,11 @@ void HttpServer::sweep_routes() {
     if (!within_queue_quota(who, sweep.points.size(), res)) return;
     std::vector<JobStore::SweepJob> jobs;
     for (const api::SweepPoint& p : sweep.points) {
-      std::string label = sweep.label.empty() ? p.spec.label : sweep.label;
-      for (const auto& [key, value] : p.values.items()) label += " " + key + "=" + value.dump();
+      // "<sweep or spec label> (key=value, ...)", or just the values: what tells the sweep's jobs apart.
+      std::string values;
+      for (const auto& [key, value] : p.values.items()) values += (values.empty() ? "" : ", ") + key + "=" + value.dump();
+      const std::string base = sweep.label.empty() ? p.spec.label : sweep.label;
+      const std::string label = base.empty() ? values : base + " (" + values + ")";
       jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
                       api::spec_hash(p.spec.normalized), p.values.dump()});
     }
