@@ -4,10 +4,13 @@
 
 #include <optional>
 #include <string_view>
+#include <vector>
 
 namespace granulab::server {
 
 /// The text of the embedded file `name` (its path in the repository, e.g. "docs/openapi.json").
 std::optional<std::string_view> embedded_file(std::string_view name);
+/// Every embedded file's name.
+std::vector<std::string_view> embedded_names();
 
 }  // namespace granulab::server

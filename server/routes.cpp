@@ -273,7 +273,9 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
   // Every response carries a request id; one access-log line per request.
   // With tokens, every route but health needs a known bearer token.
   http_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    if (req.path == "/v1/health" || caller(req)) return httplib::Server::HandlerResponse::Unhandled;
+    // The page itself asks for the token; health is for monitors.
+    const bool open = req.path == "/v1/health" || req.path == "/" || req.path.rfind("/web/", 0) == 0;
+    if (open || caller(req)) return httplib::Server::HandlerResponse::Unhandled;
     error(res, 401, "unauthorized",
           req.has_header("Authorization") ? "unknown access token" : "this server needs 'Authorization: Bearer <token>'");
     return httplib::Server::HandlerResponse::Handled;
@@ -350,6 +352,7 @@ void HttpServer::routes() {
   sweep_routes();
   picture_routes();
   export_routes();
+  web_routes();
   http_->Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
     reply(res, 200,
           {{"status", "ok"},

@@ -89,6 +89,7 @@ class HttpServer {
   void sweep_routes();    // sweep_routes.cpp
   void picture_routes();  // picture_routes.cpp
   void export_routes();   // export_routes.cpp
+  void web_routes();      // web_routes.cpp
   JobStore& store_;
   WorkerPool& pool_;
   HttpOptions options_;

@@ -1,0 +1,359 @@
+// The granulab web page: a small hash-routed client of the HTTP API (docs/api.md). Views:
+//   #/             jobs and sweeps with live status and progress
+//   #/jobs/ID      a job: status, warnings, live curve, snapshot sections (field and slice), downloads
+//   #/sweeps/ID    a sweep: overlaid curves and a table of its jobs' varied values, first yield and peak
+//   #/submit       a form built from the experiment registry, prefilled from an example; errors by field
+// Every request carries the token kept in localStorage (asked for once, when the server answers 401).
+// Pictures are the server's own SVG documents, placed inline so they scale and can be inspected.
+"use strict";
+
+const REFRESH_MS = 2000;
+let timer = null;
+
+// ---- talking to the server ------------------------------------------------------------------------
+
+function token() { return localStorage.getItem("granulab_token") || ""; }
+
+async function request(path, options = {}) {
+  const headers = Object.assign({}, options.headers || {});
+  if (token()) headers["Authorization"] = "Bearer " + token();
+  const response = await fetch(path, Object.assign({}, options, { headers, cache: "no-store" }));
+  if (response.status === 401) {
+    document.getElementById("token-bar").hidden = false;
+    throw new Error("this server needs an access token (above)");
+  }
+  return response;
+}
+
+async function getJson(path) {
+  const response = await request(path);
+  const body = await response.json();
+  if (!response.ok) throw new Error(body.error ? body.error.message : "HTTP " + response.status);
+  return body;
+}
+
+async function sendJson(method, path, body) {
+  const response = await request(path, {
+    method, headers: { "Content-Type": "application/json" }, body: body === undefined ? undefined : JSON.stringify(body),
+  });
+  return { status: response.status, body: await response.json() };
+}
+
+// An SVG picture from the server, inline; a note instead when there is nothing to draw yet.
+async function picture(path, holder) {
+  const response = await request(path);
+  if (!response.ok) {
+    const body = await response.json().catch(() => ({}));
+    fill(holder, el("p", { class: "hint" }, body.error ? body.error.message : "HTTP " + response.status));
+    return;
+  }
+  const doc = new DOMParser().parseFromString(await response.text(), "image/svg+xml");
+  const svg = doc.documentElement;
+  if (svg.nodeName !== "svg") return;
+  fill(holder, document.importNode(svg, true));
+}
+
+// Downloads through fetch, so a token travels with them.
+async function download(path, name) {
+  const response = await request(path);
+  if (!response.ok) return alert("download failed: HTTP " + response.status);
+  const link = el("a", { href: URL.createObjectURL(await response.blob()), download: name });
+  document.body.appendChild(link);
+  link.click();
+  setTimeout(() => { URL.revokeObjectURL(link.href); link.remove(); }, 1000);
+}
+
+// ---- small DOM helpers ------------------------------------------------------------------------------
+
+function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k.startsWith("on")) node.addEventListener(k.slice(2), v);
+    else node.setAttribute(k, v === true ? "" : v);
+  }
+  for (const c of children.flat()) if (c !== undefined && c !== null) node.append(c instanceof Node ? c : String(c));
+  return node;
+}
+
+function progressBar(job) {
+  const pct = Math.round(100 * (job.progress || 0));
+  const bar = el("span", { class: "progress", title: pct + " %" }, el("span", { style: "width:" + pct + "%" }));
+  const eta = job.status === "running" && job.eta_seconds !== undefined ? " · " + duration(job.eta_seconds) + " left" : "";
+  return [bar, " " + pct + " %" + eta];
+}
+
+function duration(s) {
+  if (s < 90) return Math.round(s) + " s";
+  if (s < 5400) return Math.round(s / 60) + " min";
+  return (s / 3600).toFixed(1) + " h";
+}
+
+function statusCell(status) { return el("span", { class: "status status-" + status }, status); }
+function when(ms) { return ms ? new Date(ms).toLocaleString() : ""; }
+function fmt(x, digits = 3) { return typeof x === "number" ? Number(x.toPrecision(digits)).toString() : ""; }
+// replaceChildren, skipping null and undefined (which the DOM would write as text).
+function fill(node, ...children) { node.replaceChildren(...children.flat().filter((c) => c !== null && c !== undefined)); }
+function setMain(...children) { fill(document.getElementById("main"), ...children); }
+function live(job) { return job.status === "queued" || job.status === "running"; }
+
+// ---- views ------------------------------------------------------------------------------------------
+
+async function listView() {
+  const jobsTable = el("table", { id: "jobs" });
+  const sweepsTable = el("table", { id: "sweeps" });
+  setMain(el("h1", {}, "Jobs"), jobsTable, el("h2", {}, "Sweeps"), sweepsTable);
+  const refresh = async () => {
+    const [jobs, sweeps] = await Promise.all([getJson("/v1/jobs?limit=100"), getJson("/v1/sweeps?limit=50")]);
+    fill(jobsTable, el("tr", {}, ["id", "label", "experiment", "status", "progress", "owner", "submitted"].map((h) => el("th", {}, h))),
+      ...jobs.jobs.map((j) => el("tr", { "data-id": j.id },
+        el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
+        el("td", {}, el("a", { href: "#/jobs/" + j.id }, j.label || "(no label)"),
+          j.sweep_id ? el("span", { class: "hint" }, " · ", el("a", { href: "#/sweeps/" + j.sweep_id }, "sweep " + j.sweep_id)) : null),
+        el("td", {}, j.experiment), el("td", { class: "status-cell" }, statusCell(j.status)),
+        el("td", {}, progressBar(j)), el("td", {}, j.owner || ""), el("td", {}, when(j.created_ms)))));
+    if (!jobs.jobs.length) jobsTable.append(el("tr", {}, el("td", { colspan: 7 }, "No jobs yet: ", el("a", { href: "#/submit" }, "submit one"))));
+    fill(sweepsTable, el("tr", {}, ["id", "label", "varied", "owner", "created"].map((h) => el("th", {}, h))),
+      ...sweeps.sweeps.map((s) => el("tr", { "data-id": s.id },
+        el("td", { class: "num" }, el("a", { href: "#/sweeps/" + s.id }, s.id)),
+        el("td", {}, el("a", { href: "#/sweeps/" + s.id }, s.label || "(no label)")),
+        el("td", {}, Object.entries(s.vary || {}).map(([k, v]) => k + " = " + JSON.stringify(v)).join("; ")),
+        el("td", {}, s.owner || ""), el("td", {}, when(s.created_ms)))));
+    return jobs.jobs.some(live);
+  };
+  return refresh;
+}
+
+async function jobView(id) {
+  const head = el("div", { id: "job-head" });
+  const curve = el("div", { class: "picture", id: "curve" }, el("p", { class: "hint" }, "loading the curve…"));
+  const snapshotPicture = el("div", { class: "picture", id: "snapshot" });
+  const snapshotSelect = el("select", { id: "snapshot-index" });
+  const fieldSelect = el("select", { id: "snapshot-field" },
+    ["equivalent_strain", "gamma_max", "severity", "displacement"].map((f) => el("option", { value: f }, f)));
+  const sliceInput = el("input", { id: "snapshot-slice", type: "number", min: 0, placeholder: "middle", style: "width:6em" });
+  const snapshotDownloads = el("span", { class: "downloads" });
+  const snapshots = el("section", { id: "snapshots", hidden: true }, el("h2", {}, "Snapshots"),
+    el("div", { class: "controls" }, el("label", {}, "snapshot ", snapshotSelect), el("label", {}, "field ", fieldSelect),
+      el("label", {}, "{111} layer ", sliceInput), snapshotDownloads),
+    snapshotPicture);
+  const downloads = el("p", { class: "downloads" },
+    el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve?format=csv`, `job${id}_curve.csv`); } }, "curve.csv"),
+    el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve.svg`, `job${id}_curve.svg`); } }, "curve.svg"),
+    el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/archive`, `job_${id}.tar`); } }, "everything (.tar)"));
+  setMain(head, el("h2", {}, "Curve"), curve, downloads, snapshots);
+
+  const showSnapshot = () => {
+    const k = snapshotSelect.value;
+    if (k === "") return;
+    const slice = sliceInput.value === "" ? "" : "&slice=" + encodeURIComponent(sliceInput.value);
+    picture(`/v1/jobs/${id}/snapshots/${k}.svg?field=${fieldSelect.value}${slice}`, snapshotPicture);
+    fill(snapshotDownloads, "download: ", ...["json", "dump", "vtk", "vtk_interfaces"].map((f) =>
+      el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/snapshots/${k}?format=${f}`,
+        `job${id}_snapshot_${k}.${f === "vtk_interfaces" ? "interfaces.vtk" : f}`); } }, f)));
+  };
+  for (const control of [snapshotSelect, fieldSelect, sliceInput]) control.addEventListener("change", showSnapshot);
+
+  let known = -1;
+  const refresh = async () => {
+    const job = await getJson("/v1/jobs/" + id);
+    const warnings = (job.summary && job.summary.warnings) || [];
+    fill(head, 
+      el("h1", {}, "Job " + job.id + ": " + (job.label || job.experiment)),
+      el("p", {}, statusCell(job.status), "  ", progressBar(job),
+        live(job) ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/jobs/${id}/cancel`); } }, "Cancel") : null),
+      job.error ? el("p", { class: "error" }, job.error) : null,
+      ...warnings.map((w) => el("p", {}, el("span", { class: "warning" }, "⚠ " + w))),
+      el("p", { class: "hint" }, job.experiment, job.owner ? " · owner " + job.owner : "",
+        job.sweep_id ? [" · ", el("a", { href: "#/sweeps/" + job.sweep_id }, "sweep " + job.sweep_id)] : "",
+        " · engine ", job.engine_version, " · submitted ", when(job.created_ms)),
+      job.summary && job.summary.first_yield ? el("p", {}, "first yield ", fmt(job.summary.first_yield.deviator_over_p0),
+        " p0 at ", fmt(100 * job.summary.first_yield.strain), " % strain; peak ", fmt(job.summary.peak.deviator_over_p0),
+        " p0 at ", fmt(100 * job.summary.peak.strain), " %") : null);
+    if (job.status !== "queued") await picture(`/v1/jobs/${id}/curve.svg`, curve);
+    else fill(curve, el("p", { class: "hint" }, "queued: the curve appears when it starts"));
+    const list = (await getJson(`/v1/jobs/${id}/snapshots`)).snapshots;
+    if (list.length !== known) {
+      const chosen = snapshotSelect.value;
+      fill(snapshotSelect, ...list.map((s) => el("option", { value: s.index }, s.index + " (strain " + fmt(100 * s.strain) + " %)")));
+      snapshots.hidden = list.length === 0;
+      if (list.length) {
+        snapshotSelect.value = chosen !== "" && chosen < list.length ? chosen : String(list[list.length - 1].index);
+        showSnapshot();
+      }
+      known = list.length;
+    }
+    return live(job);
+  };
+  return refresh;
+}
+
+async function sweepView(id) {
+  const head = el("div", { id: "sweep-head" });
+  const curves = el("div", { class: "picture", id: "curves" });
+  const table = el("table", { id: "sweep-jobs" });
+  setMain(head, curves, el("h2", {}, "Jobs"), table);
+  const refresh = async () => {
+    const sweep = await getJson("/v1/sweeps/" + id);
+    const keys = Object.keys(sweep.vary || {});
+    const anyLive = sweep.jobs.some(live);
+    fill(head, el("h1", {}, "Sweep " + sweep.id + ": " + (sweep.label || "")),
+      el("p", {}, Object.entries(sweep.counts).map(([s, n]) => n + " " + s).join(", "),
+        anyLive ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/sweeps/${id}/cancel`); } }, "Cancel the rest") : null));
+    await picture(`/v1/sweeps/${id}/curves.svg`, curves);
+    fill(table, el("tr", {}, ["job", ...keys, "status", "progress", "first yield (p0)", "at strain (%)", "peak (p0)", "at strain (%)"].map((h) => el("th", {}, h))),
+      ...sweep.jobs.map((j) => el("tr", { "data-id": j.id },
+        el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
+        ...keys.map((k) => el("td", { class: "num" }, JSON.stringify(j.values[k]))),
+        el("td", {}, statusCell(j.status), j.error ? el("div", { class: "error" }, j.error) : null),
+        el("td", {}, progressBar(j)),
+        el("td", { class: "num" }, j.first_yield ? fmt(j.first_yield.deviator_over_p0) : ""),
+        el("td", { class: "num" }, j.first_yield ? fmt(100 * j.first_yield.strain) : ""),
+        el("td", { class: "num" }, j.peak ? fmt(j.peak.deviator_over_p0) : ""),
+        el("td", { class: "num" }, j.peak ? fmt(100 * j.peak.strain) : ""))));
+    return anyLive;
+  };
+  return refresh;
+}
+
+// The nested spec value at a dotted key, or undefined.
+function lookup(spec, dotted) {
+  return dotted.split(".").reduce((o, k) => (o && typeof o === "object" ? o[k] : undefined), spec);
+}
+
+async function submitView() {
+  const [registry, examples] = await Promise.all([getJson("/v1/experiments"), getJson("/v1/examples")]);
+  const experimentSelect = el("select", { id: "experiment" }, registry.experiments.map((e) => el("option", { value: e.name }, e.name)));
+  const exampleSelect = el("select", { id: "example" });
+  const form = el("form", { class: "spec", id: "spec-form", novalidate: true });
+  const vary = el("textarea", { id: "vary", rows: 3, cols: 60, placeholder: "loading.confining_pressure=10e3,30e3,60e3" });
+  const zip = el("input", { type: "checkbox", id: "zip" });
+  const message = el("p", { id: "submit-message" });
+  setMain(el("h1", {}, "Submit an experiment"),
+    el("div", { class: "controls" }, el("label", {}, "experiment ", experimentSelect), el("label", {}, "start from ", exampleSelect)),
+    form,
+    el("h2", {}, "Sweep (optional)"),
+    el("p", { class: "hint" }, "One line per varied field: dotted.key=value1,value2,… Every combination runs, or the lists are paired with ‘zip’."),
+    vary, el("div", {}, el("label", {}, zip, " zip the lists")),
+    el("p", {}, el("button", { id: "submit", type: "button", onclick: () => submit() }, "Submit")), message);
+
+  let fields = [];
+  const build = () => {
+    const experiment = registry.experiments.find((e) => e.name === experimentSelect.value);
+    const example = examples.examples.find((x) => x.name === exampleSelect.value);
+    // The registry lists job fields (run.threads) before the experiment's: keep each section together.
+    const sectionOf = (f) => (f.field.includes(".") ? f.field.split(".")[0] : "");
+    const order = [...new Set(experiment.fields.map(sectionOf))];
+    fields = experiment.fields.filter((f) => f.field !== "experiment" && !f.field.includes("[]."))
+      .sort((a, b) => order.indexOf(sectionOf(a)) - order.indexOf(sectionOf(b)));
+    const rows = [];
+    let section = "";
+    for (const f of fields) {
+      const top = f.field.includes(".") ? f.field.split(".")[0] : "";
+      if (top !== section) { section = top; rows.push(el("div", { class: "section" }, section)); }
+      const value = example ? lookup(example.spec, f.field) : undefined;
+      const shown = value !== undefined ? value : f.default;
+      const text = typeof shown === "object" ? JSON.stringify(shown) : String(shown);
+      const unit = f.unit && f.unit !== "-" ? " (" + f.unit + ")" : "";
+      const range = f.minimum !== undefined ? " [" + f.minimum + ", " + f.maximum + "]" : f.choices ? " one of " + f.choices.join(", ") : "";
+      rows.push(el("label", { for: "f-" + f.field }, f.field),
+        el("input", { id: "f-" + f.field, name: f.field, value: text, "data-default": JSON.stringify(f.default) }),
+        el("span", { class: "meaning" }, f.meaning + unit + range),
+        el("div", { class: "field-error", id: "e-" + f.field, hidden: true }));
+    }
+    fill(form, ...rows);
+  };
+  const fillExamples = () => {
+    const list = examples.examples.filter((x) => (x.spec.experiment || "two_cube_sliding") === experimentSelect.value);
+    fill(exampleSelect, el("option", { value: "" }, "the defaults"), ...list.map((x) => el("option", { value: x.name }, x.name + ": " + (x.spec.label || ""))));
+    if (list.length) exampleSelect.value = list[0].name;
+    build();
+  };
+  experimentSelect.addEventListener("change", fillExamples);
+  exampleSelect.addEventListener("change", build);
+  fillExamples();
+
+  const showError = (field, text) => {
+    const key = (field || "").replace(/^spec\./, "").replace(/^vary\./, "");
+    const holder = document.getElementById("e-" + key);
+    const input = document.getElementById("f-" + key);
+    if (holder && input) {
+      holder.textContent = text;
+      holder.hidden = false;
+      input.classList.add("bad");
+      input.scrollIntoView({ block: "center" });
+    }
+    fill(message, el("span", { class: "error" }, text));
+  };
+
+  async function submit() {
+    for (const e of form.querySelectorAll(".field-error")) e.hidden = true;
+    for (const e of form.querySelectorAll("input.bad")) e.classList.remove("bad");
+    message.textContent = "";
+    const spec = { experiment: experimentSelect.value };
+    for (const f of fields) {
+      const input = document.getElementById("f-" + f.field);
+      let value = input.value.trim();
+      if (value === "" && f.type !== "string") continue;  // left empty: the default
+      if (f.type === "number" || f.type === "integer") value = Number(value);
+      else if (f.type.startsWith("array")) {
+        try { value = JSON.parse(value); } catch (e) { return showError(f.field, f.field + ": not a JSON list"); }
+      }
+      if (typeof value === "number" && Number.isNaN(value)) return showError(f.field, f.field + ": not a number");
+      const path = f.field.split(".");
+      let at = spec;
+      for (const k of path.slice(0, -1)) at = at[k] = at[k] || {};
+      at[path[path.length - 1]] = value;
+    }
+    const varied = {};
+    for (const line of vary.value.split("\n").map((l) => l.trim()).filter(Boolean)) {
+      const eq = line.indexOf("=");
+      if (eq < 0) return showError("", "sweep line '" + line + "' has no '='");
+      varied[line.slice(0, eq).trim()] = line.slice(eq + 1).split(",").map((v) => { const n = Number(v); return v.trim() !== "" && !Number.isNaN(n) ? n : v.trim(); });
+    }
+    const sweep = Object.keys(varied).length > 0;
+    const answer = sweep
+      ? await sendJson("POST", "/v1/sweeps", { spec, vary: varied, mode: zip.checked ? "zip" : "product", label: spec.label || "" })
+      : await sendJson("POST", "/v1/jobs", spec);
+    if (answer.status >= 400) return showError(answer.body.error.field, answer.body.error.message);
+    location.hash = sweep ? "#/sweeps/" + answer.body.id : "#/jobs/" + answer.body.id;
+  }
+  return null;
+}
+
+// ---- routing ----------------------------------------------------------------------------------------
+
+async function route() {
+  clearTimeout(timer);
+  const hash = location.hash || "#/";
+  let match, refresh = null;
+  try {
+    if ((match = hash.match(/^#\/jobs\/(\d+)$/))) refresh = await jobView(match[1]);
+    else if ((match = hash.match(/^#\/sweeps\/(\d+)$/))) refresh = await sweepView(match[1]);
+    else if (hash === "#/submit") refresh = await submitView();
+    else refresh = await listView();
+  } catch (e) {
+    return setMain(el("p", { class: "error" }, e.message));
+  }
+  const current = hash;
+  // Refresh while anything shown is queued or running; the list keeps polling (new jobs may come).
+  const tick = async () => {
+    if (location.hash !== current && !(current === "#/" && !location.hash)) return;
+    let again = true;
+    try { again = await refresh(); } catch (e) { document.getElementById("main").prepend(el("p", { class: "error" }, e.message)); again = false; }
+    if (again || current === "#/" || current === "") timer = setTimeout(tick, REFRESH_MS);
+  };
+  if (refresh) tick();
+}
+
+document.getElementById("token-form").addEventListener("submit", (e) => {
+  e.preventDefault();
+  localStorage.setItem("granulab_token", document.getElementById("token").value.trim());
+  document.getElementById("token-bar").hidden = true;
+  route();
+});
+window.addEventListener("hashchange", route);
+fetch("/v1/health").then((r) => r.json()).then((h) => {
+  document.getElementById("server").textContent = "engine " + h.engine_version + " · " + h.running + " running, " + h.queued + " queued";
+}).catch(() => {});
+route();

@@ -1,0 +1,47 @@
+// The web page (GET /, docs/api.md "Web page") and the example specs its submit form starts from
+// (GET /v1/examples), both compiled into the daemon (server/embedded_files.h).
+#include <string>
+
+#include "server/embedded_files.h"
+#include "server/routes.h"
+#include "server/route_helpers.h"
+
+namespace granulab::server {
+
+using nlohmann::json;
+using namespace http;
+
+void HttpServer::web_routes() {
+  // One embedded file per route (literal paths: tests/server/openapi_test.cpp reads them from here).
+  const auto file = [](const char* name, const char* type) {
+    return only({}, [name, type](const httplib::Request&, httplib::Response& res) {
+      const auto text = embedded_file(name);
+      if (!text) return error(res, 404, "not_found", std::string("this build has no ") + name);
+      res.set_content(std::string(*text), type);
+      // The page is part of the binary: a browser revalidates it rather than keeping an old daemon's.
+      res.set_header("Cache-Control", "no-cache");
+    });
+  };
+  router().Get("/", file("server/web/index.html", "text/html; charset=utf-8"));
+  router().Get("/web/app.js", file("server/web/app.js", "text/javascript; charset=utf-8"));
+  router().Get("/web/style.css", file("server/web/style.css", "text/css; charset=utf-8"));
+
+  // The specs of examples/ (the paper's experiments), by name: what the submit form is prefilled from.
+  router().Get("/v1/examples", only({}, [](const httplib::Request&, httplib::Response& res) {
+    static const json examples = [] {
+      json list = json::array();
+      for (std::string_view name : embedded_names()) {
+        const std::string prefix = "examples/", suffix = ".json";
+        if (name.substr(0, prefix.size()) != prefix) continue;
+        const json spec = json::parse(*embedded_file(name), nullptr, false);
+        if (!spec.is_object()) continue;
+        list.push_back({{"name", std::string(name.substr(prefix.size(), name.size() - prefix.size() - suffix.size()))},
+                        {"spec", spec}});
+      }
+      return json{{"examples", list}};
+    }();
+    reply(res, 200, examples);
+  }));
+}
+
+}  // namespace granulab::server

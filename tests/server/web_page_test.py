@@ -1,0 +1,284 @@
+#!/usr/bin/python3
+"""The web page at / in a real browser (Debian's headless Chromium, driven over the DevTools protocol on a
+pipe): it lists submitted jobs with their status and keeps them live, shows a job's curve and snapshot
+sections, a sweep's overlaid curves and table, reports a bad field next to that field and submits a good
+spec, and asks for a token once on a server that needs one.
+
+Standard library only. The daemon comes from $GRANULABD (set by CTest) or build/granulabd; Chromium from
+$CHROMIUM or /usr/bin/chromium (the test is skipped, loudly, when there is none).
+"""
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import urllib.request
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+CHROMIUM = os.environ.get("CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
+
+TWO_CUBE = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-4},
+            "output": {"curve_points": 20}, "label": "web two cubes"}
+CRYSTAL = {"experiment": "crystal_compression", "grain": {"shape": "rhombic_dodecahedron", "edge_spheres": 3},
+           "crystal": {"grains_x": 3, "rows_z": 6, "layers_y": 3},
+           "loading": {"confining_pressure": 30000, "max_strain": 0.004, "rate_number": 1e-4},
+           "run": {"time_step_factor": 0.4},
+           "output": {"curve_points": 40, "snapshot_strains": [0, 0.004]}, "label": "web crystal"}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Daemon:
+    def __init__(self, directory, *extra):
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.token = None
+        self.proc = subprocess.Popen([DAEMON, "--port", str(self.port), "--db", os.path.join(directory, "jobs.db"),
+                                      "--workers", "1", "--threads", "1", *extra],
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.time() + 20
+        while time.time() < deadline:
+            try:
+                urllib.request.urlopen(self.url + "/v1/health", timeout=2)
+                return
+            except Exception:
+                time.sleep(0.05)
+        self.stop()
+        raise RuntimeError("granulabd did not start")
+
+    def call(self, method, path, body=None):
+        request = urllib.request.Request(self.url + path, method=method,
+                                         data=None if body is None else json.dumps(body).encode())
+        if self.token:
+            request.add_header("Authorization", "Bearer " + self.token)
+        with urllib.request.urlopen(request, timeout=10) as response:
+            return json.loads(response.read())
+
+    def wait(self, job, seconds=90):
+        deadline = time.time() + seconds
+        while time.time() < deadline:
+            status = self.call("GET", f"/v1/jobs/{job}")["status"]
+            if status not in ("queued", "running"):
+                return status
+            time.sleep(0.1)
+        raise AssertionError(f"job {job} did not finish")
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            self.proc.wait(timeout=30)
+
+
+class Browser:
+    """Headless Chromium driven over the DevTools protocol on a pipe (fd 3 in, fd 4 out, NUL-separated JSON)."""
+
+    def __init__(self, directory):
+        to_chrome_r, self.to_chrome = os.pipe()
+        self.from_chrome, from_chrome_w = os.pipe()
+        # The child gets our ends as its fds 3 and 4 (copied high first, so neither overwrites the other).
+        def child_fds():
+            r, w = os.dup(to_chrome_r) + 10, os.dup(from_chrome_w) + 10
+            os.dup2(r - 10, r), os.dup2(w - 10, w)
+            os.dup2(r, 3)
+            os.dup2(w, 4)
+        self.proc = subprocess.Popen([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--remote-debugging-pipe",
+                                      "--user-data-dir=" + os.path.join(directory, "profile"), "--no-first-run",
+                                      "--window-size=1280,1400", "about:blank"],
+                                     preexec_fn=child_fds, pass_fds=(3, 4),
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(to_chrome_r)
+        os.close(from_chrome_w)
+        self.buffer = b""
+        self.next_id = 0
+        self.session = None
+
+    def send(self, method, params=None, session=True):
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params or {}}
+        if session and self.session:
+            message["sessionId"] = self.session
+        os.write(self.to_chrome, json.dumps(message).encode() + b"\0")
+        while True:
+            while b"\0" not in self.buffer:
+                chunk = os.read(self.from_chrome, 1 << 16)
+                if not chunk:
+                    raise RuntimeError("chromium closed the pipe")
+                self.buffer += chunk
+            raw, self.buffer = self.buffer.split(b"\0", 1)
+            reply = json.loads(raw)
+            if reply.get("id") == self.next_id:
+                if "error" in reply:
+                    raise RuntimeError(f"{method}: {reply['error']}")
+                return reply["result"]
+
+    def open(self, url):
+        if self.session is None:
+            target = self.send("Target.createTarget", {"url": "about:blank"}, session=False)["targetId"]
+            self.session = self.send("Target.attachToTarget", {"targetId": target, "flatten": True}, session=False)["sessionId"]
+            self.send("Page.enable")
+        self.send("Page.navigate", {"url": url})
+
+    def js(self, expression):
+        result = self.send("Runtime.evaluate", {"expression": expression, "awaitPromise": True, "returnByValue": True})
+        if "exceptionDetails" in result:
+            raise RuntimeError(f"{expression}: {result['exceptionDetails']}")
+        return result["result"].get("value")
+
+    def until(self, expression, seconds=20):
+        """The expression's value once it is truthy; fails with the last value after `seconds`."""
+        deadline = time.time() + seconds
+        value = None
+        while time.time() < deadline:
+            try:
+                value = self.js(expression)
+            except RuntimeError:
+                value = None  # the page is still loading
+            if value:
+                return value
+            time.sleep(0.1)
+        raise AssertionError(f"not true after {seconds} s: {expression} (last: {value!r})")
+
+    def close(self):
+        try:
+            self.send("Browser.close", session=False)
+        except Exception:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        os.close(self.to_chrome)
+        os.close(self.from_chrome)
+
+
+@unittest.skipUnless(os.path.exists(CHROMIUM), "Debian's chromium is not installed (make test installs it)")
+class WebPageTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="granulab_web_")
+        cls.daemon = Daemon(cls.dir)
+        cls.browser = Browser(cls.dir)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.browser.close()
+        cls.daemon.stop()
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def row_status(self, job):
+        return f"(document.querySelector('#jobs tr[data-id=\"{job}\"] .status') || {{}}).textContent"
+
+    def test_the_list_shows_a_submitted_job_and_follows_it_to_the_end(self):
+        self.browser.open(self.daemon.url + "/#/")
+        self.browser.until("document.querySelector('#jobs') !== null")
+        job = self.daemon.call("POST", "/v1/jobs", TWO_CUBE)["id"]
+        # Appears without a reload, with its label and a progress bar, and ends succeeded on the same page.
+        self.assertIn(self.browser.until(self.row_status(job)), ("queued", "running", "succeeded"))
+        row = f"document.querySelector('#jobs tr[data-id=\"{job}\"]')"
+        self.assertIn("web two cubes", self.browser.js(row + ".textContent"))
+        self.assertTrue(self.browser.js(row + ".querySelector('.progress') !== null"))
+        self.assertEqual(self.browser.until(f"{self.row_status(job)} === 'succeeded' && 'succeeded'", 90), "succeeded")
+        self.assertIn("100 %", self.browser.js(row + ".textContent"))
+
+    def test_a_job_page_shows_its_curve_and_snapshot_sections(self):
+        job = self.daemon.call("POST", "/v1/jobs", CRYSTAL)["id"]
+        self.assertEqual(self.daemon.wait(job), "succeeded")
+        self.browser.open(f"{self.daemon.url}/#/jobs/{job}")
+        # The server's curve picture, inline: deviator and the two platens.
+        self.assertEqual(self.browser.until("document.querySelectorAll('#curve svg polyline.series').length"), 3)
+        self.assertIn("first yield", self.browser.js("document.querySelector('#curve svg').textContent"))
+        # The latest snapshot's section: one hexagon per grain of the middle layer (3 x 6).
+        self.assertEqual(self.browser.until("document.querySelectorAll('#snapshot svg polygon.grain').length"), 18)
+        # Another field and layer redraw it.
+        self.browser.js("""(() => { const f = document.getElementById('snapshot-field'); f.value = 'displacement';
+                           const s = document.getElementById('snapshot-slice'); s.value = '0';
+                           s.dispatchEvent(new Event('change')); })()""")
+        self.assertTrue(self.browser.until("document.querySelector('#snapshot svg') && "
+                                           "document.querySelector('#snapshot svg').textContent.includes('displacement (mm)') && "
+                                           "document.querySelector('#snapshot svg').textContent.includes('layer 0')"))
+        self.assertEqual(self.browser.js("document.querySelectorAll('#snapshot svg polygon.grain').length"), 18)
+        links = self.browser.js("Array.from(document.querySelectorAll('.downloads a')).map(a => a.textContent)")
+        for name in ("curve.csv", "everything (.tar)", "dump", "vtk"):
+            self.assertIn(name, links)
+
+    def test_a_sweep_page_overlays_its_curves_and_tabulates_its_jobs(self):
+        sweep = self.daemon.call("POST", "/v1/sweeps", {"spec": TWO_CUBE, "vary": {"material.friction": [0.1, 0.3]},
+                                                        "label": "web friction sweep"})
+        for job in sweep["jobs"]:
+            self.assertEqual(self.daemon.wait(job), "succeeded")
+        self.browser.open(f"{self.daemon.url}/#/sweeps/{sweep['id']}")
+        self.assertEqual(self.browser.until("document.querySelectorAll('#curves svg polyline.series').length"), 2)
+        rows = self.browser.until("document.querySelectorAll('#sweep-jobs tr[data-id]').length === 2 && "
+                                  "Array.from(document.querySelectorAll('#sweep-jobs tr[data-id]')).map(r => r.textContent)")
+        self.assertIn("0.1", rows[0])
+        self.assertIn("0.3", rows[1])
+        self.assertIn("succeeded", rows[0])
+
+    def test_the_form_names_a_bad_field_next_to_it_and_submits_a_good_spec(self):
+        self.browser.open(self.daemon.url + "/#/submit")
+        self.browser.until("document.getElementById('f-loading.max_slide') !== null")
+        self.browser.js("""document.getElementById('f-loading.max_slide').value = '7';
+                           document.getElementById('submit').click()""")
+        message = self.browser.until("(() => { const e = document.getElementById('e-loading.max_slide');"
+                                     " return e && !e.hidden && e.textContent; })()")
+        self.assertIn("max_slide", message)
+        self.assertTrue(self.browser.js("document.getElementById('f-loading.max_slide').classList.contains('bad')"))
+        before = len(self.daemon.call("GET", "/v1/jobs?limit=1000")["jobs"])
+        self.browser.js("""(() => { const set = (k, v) => document.getElementById('f-' + k).value = v;
+                           set('loading.max_slide', '0.1'); set('grain.edge_spheres', '4'); set('output.curve_points', '5');
+                           set('label', 'from the form'); document.getElementById('submit').click(); })()""")
+        job = int(self.browser.until("(location.hash.match(/^#\\/jobs\\/(\\d+)$/) || [])[1]"))
+        self.assertEqual(len(self.daemon.call("GET", "/v1/jobs?limit=1000")["jobs"]), before + 1)
+        spec = self.daemon.call("GET", f"/v1/jobs/{job}")["spec"]
+        self.assertEqual(spec["label"], "from the form")
+        self.assertEqual(spec["loading"]["max_slide"], 0.1)
+        self.assertEqual(spec["grain"]["edge_spheres"], 4)
+        self.assertEqual(self.browser.until("document.querySelector('#job-head h1') && "
+                                            "document.querySelector('#job-head h1').textContent"), f"Job {job}: from the form")
+
+
+@unittest.skipUnless(os.path.exists(CHROMIUM), "Debian's chromium is not installed (make test installs it)")
+class WebPageWithTokensTest(unittest.TestCase):
+    def test_the_page_asks_for_the_token_once_and_keeps_it(self):
+        directory = tempfile.mkdtemp(prefix="granulab_web_tokens_")
+        tokens = os.path.join(directory, "tokens")
+        with open(tokens, "w") as f:
+            f.write("ada s3cret-ada\n")
+        os.chmod(tokens, 0o600)
+        daemon = Daemon(directory, "--token-file", tokens)
+        browser = Browser(directory)
+        try:
+            daemon.token = "s3cret-ada"
+            job = daemon.call("POST", "/v1/jobs", TWO_CUBE)["id"]
+            browser.open(daemon.url + "/#/")
+            self.assertTrue(browser.until("!document.getElementById('token-bar').hidden"))
+            self.assertFalse(browser.js("document.querySelector('#jobs tr[data-id]') !== null"))  # nothing without it
+            browser.js("""document.getElementById('token').value = 's3cret-ada';
+                          document.getElementById('token-form').requestSubmit()""")
+            self.assertIn(browser.until(f"(document.querySelector('#jobs tr[data-id=\"{job}\"] .status') || {{}}).textContent"),
+                          ("queued", "running", "succeeded"))
+            self.assertTrue(browser.js("document.getElementById('token-bar').hidden"))
+            # Kept: a reload lists the job without asking again.
+            browser.open(daemon.url + "/#/")
+            browser.until(f"document.querySelector('#jobs tr[data-id=\"{job}\"]') !== null")
+            self.assertTrue(browser.js("document.getElementById('token-bar').hidden"))
+        finally:
+            browser.close()
+            daemon.stop()
+            shutil.rmtree(directory, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
