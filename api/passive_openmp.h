@@ -12,7 +12,13 @@ namespace granulab::api {
 inline void reexec_with_passive_openmp(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY")) return;
   setenv("OMP_WAIT_POLICY", "passive", 1);
-  execv("/proc/self/exe", argv);  // returns only on failure: then carry on with the default policy
+  // The binary's own path, not /proc/self/exe: the process is named after the file executed, and
+  // "exe" in top and pgrep named nothing.
+  char path[4096];
+  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  if (n <= 0) return;
+  path[n] = '\0';
+  execv(path, argv);  // returns only on failure: then carry on with the default policy
 }
 
 }  // namespace granulab::api

@@ -4,7 +4,8 @@
 usage: /usr/bin/python3 examples/plot_snapshot.py OUT_DIR/snapshots/snapshot_K.json
            [--field equivalent_strain|max_shear_strain|penetration_ratio] [--layer N] [-o map.png]
 
-Every grain is a dot at its current (x, z); --layer keeps one {111} layer (0 = the front face, y lowest).
+Every grain is a dot at its current (x, z); --layer keeps one {111} layer (0 = the front face, y lowest), found
+from the reference positions. The server draws the same section without matplotlib: GET /v1/jobs/ID/snapshots/K.svg.
 Needs matplotlib (Debian: python3-matplotlib, run with /usr/bin/python3).
 """
 import argparse
@@ -25,8 +26,20 @@ def main():
 
     s = json.load(open(args.snapshot))
     g = s["grains"]
-    ys = sorted(set(round(y, 6) for y in g["y"]))
-    keep = [i for i in range(len(g["id"])) if args.layer is None or round(g["y"][i], 6) == ys[args.layer]]
+    # Layers from the reference positions (y - dy): grains of a deformed snapshot have left their plane.
+    ref_y = [y - dy for y, dy in zip(g["y"], g["dy"])]
+    lowest = min(ref_y)
+    pairs = list(zip(s["interfaces"]["a"], s["interfaces"]["b"]))
+    index = {int(gid): i for i, gid in enumerate(g["id"])}
+    spacing = None
+    if pairs:  # {111} layers are the neighbour distance times sqrt(2/3) apart
+        d = sorted(((g["x"][index[int(a)]] - g["dx"][index[int(a)]] - g["x"][index[int(b)]] + g["dx"][index[int(b)]]) ** 2 +
+                    (ref_y[index[int(a)]] - ref_y[index[int(b)]]) ** 2 +
+                    (g["z"][index[int(a)]] - g["dz"][index[int(a)]] - g["z"][index[int(b)]] + g["dz"][index[int(b)]]) ** 2) ** 0.5
+                   for a, b in pairs)
+        spacing = d[len(d) // 2] * (2 / 3) ** 0.5
+    layer_of = [round((y - lowest) / spacing) if spacing else 0 for y in ref_y]
+    keep = [i for i in range(len(g["id"])) if args.layer is None or layer_of[i] == args.layer]
     fig, ax = plt.subplots(figsize=(4, 6.5))
     dots = ax.scatter([g["x"][i] for i in keep], [g["z"][i] for i in keep], c=[g[args.field][i] for i in keep],
                       s=60 if args.layer is not None else 25, cmap="viridis")

@@ -43,6 +43,7 @@ json job_json(const JobRecord& j, bool full) {
               {"priority", j.priority}};
   if (j.eta_seconds >= 0 && j.status == "running") out["eta_seconds"] = j.eta_seconds;
   if (!j.error.empty()) out["error"] = j.error;
+  if (json warnings = warnings_of(j); !warnings.empty()) out["warnings"] = std::move(warnings);
   if (!j.owner.empty()) out["owner"] = j.owner;
   if (j.sweep_id != 0) {
     out["sweep_id"] = j.sweep_id;
@@ -91,6 +92,27 @@ bool query_int(const httplib::Request& req, httplib::Response& res, const char* 
             "], got '" + text + "'",
         name);
   return false;
+}
+
+json latest_values(JobStore& store, const JobRecord& job) {
+  if (job.status != "running") return nullptr;
+  const auto row = store.latest_row(job.id);
+  if (!row) return nullptr;
+  const json columns = api::curve_csv_to_json(row->first + row->second);
+  json out = json::object();
+  for (const auto& name : columns["columns"])
+    if (!columns[name.get<std::string>()].empty()) out[name.get<std::string>()] = columns[name.get<std::string>()][0];
+  return out;
+}
+
+json warnings_of(const JobRecord& job) {
+  if (job.summary_json.empty()) return json::array();
+  const json summary = json::parse(job.summary_json, nullptr, false);
+  if (!summary.is_object() || !summary.contains("warnings") || !summary["warnings"].is_array()) return json::array();
+  json out = json::array();
+  for (const json& w : summary["warnings"])
+    if (w.is_string()) out.push_back(w);
+  return out;
 }
 
 std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {

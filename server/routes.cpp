@@ -220,23 +220,63 @@ std::string number(double x) {
 
 }  // namespace
 
-bool HttpServer::within_budget(const api::Spec& spec, httplib::Response& res) const {
+std::string HttpServer::budget_problem(const api::Spec& spec) const {
   const Workload w = spec.experiment->workload();
   const std::string size = number(w.spheres) + " spheres in " + number(w.grains) + " grains";
-  if (w.peak_bytes() > options_.max_memory_bytes) {
-    error(res, 400, "over_budget",
-          "this job would need about " + gigabytes(w.peak_bytes()) + " of memory (" + size +
-              "); the server's limit is " + gigabytes(options_.max_memory_bytes) + " (max_memory)");
-    return false;
+  if (w.peak_bytes() > options_.max_memory_bytes)
+    return "this job would need about " + gigabytes(w.peak_bytes()) + " of memory (" + size + "); the server's limit is " +
+           gigabytes(options_.max_memory_bytes) + " (max_memory)";
+  if (w.sphere_steps() > options_.max_sphere_steps)
+    return "this job would take about " + number(w.sphere_steps()) + " sphere-steps (" + size + " x " + number(w.steps) +
+           " steps); the server's limit is " + number(options_.max_sphere_steps) + " (max_sphere_steps)";
+  return "";
+}
+
+bool HttpServer::within_budget(const api::Spec& spec, httplib::Response& res) const {
+  const std::string problem = budget_problem(spec);
+  if (problem.empty()) return true;
+  error(res, 400, "over_budget", problem);
+  return false;
+}
+
+json HttpServer::cost_estimate(const api::Spec& spec) {
+  const Workload w = spec.experiment->workload();
+  const std::string experiment = spec.normalized["experiment"].get<std::string>();
+  // The speed of this server: the median rate of its recent succeeded jobs of the same experiment (of any,
+  // failing that); with none, 5e7 sphere-steps per second per thread, what the crystal runs at here.
+  std::vector<double> same, any;
+  for (const JobRecord& j : store_.list("succeeded", 50, 0, "")) {
+    const json summary = json::parse(j.summary_json, nullptr, false);
+    if (!summary.is_object() || !summary.contains("sphere_steps_per_second") ||
+        !summary["sphere_steps_per_second"].is_number())
+      continue;
+    const double rate = summary["sphere_steps_per_second"].get<double>();
+    if (!(rate > 0)) continue;
+    any.push_back(rate);
+    if (j.experiment == experiment) same.push_back(rate);
   }
-  if (w.sphere_steps() > options_.max_sphere_steps) {
-    error(res, 400, "over_budget",
-          "this job would take about " + number(w.sphere_steps()) + " sphere-steps (" + size + " x " +
-              number(w.steps) + " steps); the server's limit is " + number(options_.max_sphere_steps) +
-              " (max_sphere_steps)");
-    return false;
+  std::vector<double>& rates = same.empty() ? any : same;
+  std::string basis = same.empty() ? (any.empty() ? "typical" : "recent jobs of other experiments")
+                                   : "recent " + experiment + " jobs";
+  double rate = 5e7 * pool_.threads_per_job();
+  if (!rates.empty()) {
+    std::nth_element(rates.begin(), rates.begin() + rates.size() / 2, rates.end());
+    rate = rates[rates.size() / 2];
   }
-  return true;
+  json out = {{"dry_run", true},
+              {"experiment", experiment},
+              {"spheres", w.spheres},
+              {"grains", w.grains},
+              {"steps", w.steps},
+              {"sphere_steps", w.sphere_steps()},
+              {"memory_bytes", w.peak_bytes()},
+              {"sphere_steps_per_second", rate},
+              {"rate_basis", basis},
+              {"expected_seconds", w.sphere_steps() / rate},
+              {"queued_ahead", store_.count("queued")},
+              {"units", {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
+  if (const std::string problem = budget_problem(spec); !problem.empty()) out["over_budget"] = problem;
+  return out;
 }
 
 HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
@@ -375,7 +415,7 @@ void HttpServer::routes() {
     reply(res, 200, description);
   }));
 
-  http_->Post("/v1/jobs", only({"reuse", "priority"}, [this](const httplib::Request& req, httplib::Response& res) {
+  http_->Post("/v1/jobs", only({"reuse", "priority", "dry_run"}, [this](const httplib::Request& req, httplib::Response& res) {
     api::Spec spec;
     try {
       spec = api::parse_spec_text(req.body);
@@ -384,6 +424,11 @@ void HttpServer::routes() {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    // A dry run: the spec is valid; what it would cost here, and nothing queued.
+    const std::string dry_run = req.has_param("dry_run") ? req.get_param_value("dry_run") : "false";
+    if (dry_run != "true" && dry_run != "false")
+      return error(res, 400, "invalid_value", "'dry_run' must be true or false, got '" + dry_run + "'", "dry_run");
+    if (dry_run == "true") return reply(res, 200, cost_estimate(spec));
     if (!within_budget(spec, res)) return;
     const std::string hash = api::spec_hash(spec.normalized);
     const std::string experiment = spec.normalized["experiment"].get<std::string>();
@@ -414,12 +459,20 @@ void HttpServer::routes() {
     const auto owner = listing_owner(req, res, "jobs");
     if (!owner) return;
     json jobs = json::array();
-    for (const JobRecord& j : store_.list(status, int(limit), offset, *owner)) jobs.push_back(job_json(j, false));
+    for (const JobRecord& j : store_.list(status, int(limit), offset, *owner)) {
+      jobs.push_back(job_json(j, false));
+      if (j.status == "running")
+        if (json latest = latest_values(store_, j); !latest.is_null()) jobs.back()["latest"] = std::move(latest);
+    }
     reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
   }));
 
   http_->Get(R"(/v1/jobs/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    if (const auto job = job_for(req, res, "read", false)) reply(res, 200, job_json(*job, true));
+    const auto job = job_for(req, res, "read", false);
+    if (!job) return;
+    json out = job_json(*job, true);
+    if (json latest = latest_values(store_, *job); !latest.is_null()) out["latest"] = std::move(latest);
+    reply(res, 200, out);
   }));
 
   http_->Delete(R"(/v1/jobs/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {

@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "server/connection_loop.h"
 #include "server/store/job_store.h"
 #include "server/worker_pool.h"
@@ -72,6 +74,10 @@ class HttpServer {
   void routes();
   /// False (and a 400 naming the limit and the estimate) when the job is over the per-job budget.
   bool within_budget(const api::Spec& spec, httplib::Response& res) const;
+  /// Why the job is over the per-job budget (naming the limit and the estimate), or empty.
+  std::string budget_problem(const api::Spec& spec) const;
+  /// A dry run's answer: spheres, steps, memory and the expected wall time at this server's recent speed.
+  nlohmann::json cost_estimate(const api::Spec& spec);
   /// The holder of the request's bearer token; with tokens off, an anonymous admin.
   std::optional<User> caller(const httplib::Request& req) const;
   /// The job of the path's id if `who` may read it (or, `write`, change it); otherwise answers 404/403.

@@ -70,6 +70,8 @@ void HttpServer::sweep_routes() {
                    {"values", json::parse(j.sweep_values, nullptr, false)}};
       if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
       if (!j.error.empty()) item["error"] = j.error;
+      if (json warnings = warnings_of(j); !warnings.empty()) item["warnings"] = std::move(warnings);
+      if (json latest = latest_values(store_, j); !latest.is_null()) item["latest"] = std::move(latest);
       if (!j.summary_json.empty()) {
         const json summary = json::parse(j.summary_json, nullptr, false);
         for (const char* key : {"first_yield", "peak"})

@@ -138,7 +138,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   // Page: the section scaled to 600 px tall (or 560 wide), a colour bar on its right.
   const double scale = std::min(600 / (z1 - z0), 560 / (x1 - x0));
   const double margin = 20, top = 60, pw = (x1 - x0) * scale, ph = (z1 - z0) * scale;
-  const double bar_x = margin + pw + 30, W = bar_x + 130, H = top + ph + 40;
+  // Wide enough for the title (about 8.5 px per character of 15 px bold text).
+  const double bar_x = margin + pw + 30, W = std::max(bar_x + 130, 8.5 * double(title.size()) + 40), H = top + ph + 40;
   const auto X = [&](double x) { return margin + (x - x0) * scale; };
   const auto Z = [&](double z) { return top + (z1 - z) * scale; };  // z (compression axis) up
 

@@ -34,12 +34,19 @@ namespace {
 const char* kUsage =
     "usage: granulab run SPEC.json --out DIR [--threads N] [--quiet] [--profile]\n"
     "                    [--checkpoint-dir CDIR [--checkpoint-seconds S] [--resume]]\n"
-    "       granulab submit SPEC.json [--reuse] [--priority N] | status ID | wait ID | results ID --out DIR |\n"
-    "                cancel ID | priority ID --priority N | delete ID | list [--status S] [--owner U] [--limit N]\n"
+    "       granulab submit SPEC.json [--reuse] [--priority N] [--dry-run] [--json]   (prints the job id)\n"
+    "       granulab sweep SPEC.json --vary KEY=V1,V2[,...] [--vary ...] [--zip] [--label L] --out DIR\n"
+    "       granulab wait ID [ID...] | status ID | results ID --out DIR | cancel ID | priority ID --priority N |\n"
+    "                delete ID | list [--status S] [--owner U] [--limit N]\n"
     "                (server: --server URL or GRANULAB_SERVER; token: GRANULAB_TOKEN)\n"
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
-    "Runs one experiment in-process and writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
+    "run: one experiment in-process; writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
+    "submit --dry-run: validates and prints the cost (spheres, steps, memory, expected time on that server).\n"
+    "sweep: submits a server sweep (every combination of the lists, or paired with --zip), shows a live line per\n"
+    "job, then writes DIR/sweep.csv (a row per job: values, status, first yield, peak) and DIR/<id>/ per job.\n"
+    "wait: a live line per job (progress, ETA, latest strain and stress); exit 0 when all succeeded; Ctrl-C stops\n"
+    "waiting, not the jobs.\n"
     "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60, 0 = never); --resume continues\n"
     "a killed run of the same spec from there, bit for bit (no checkpoint yet: it starts from zero).\n"
     "The spec's fields: docs/spec.md or `granulab experiments --markdown` (every field has a default).\n";
@@ -196,7 +203,7 @@ int main(int argc, char** argv) {
       std::cout << "granulab " << api::engine_version() << "\n";
       return 0;
     }
-    if (command == "submit" || command == "status" || command == "wait" || command == "results" ||
+    if (command == "submit" || command == "sweep" || command == "status" || command == "wait" || command == "results" ||
         command == "cancel" || command == "list" || command == "delete" || command == "priority")
       return cli::run_remote(argc, argv);
     std::cerr << "unknown command '" << command << "'\n" << kUsage;

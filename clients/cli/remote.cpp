@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/int_option.h"
+#include "clients/cli/job_watch.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -27,8 +28,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct Args {
-  std::string command, server, target, out, status, owner;
-  bool reuse = false, priority_given = false;
+  std::string command, server, target, out, status, owner, label;
+  std::vector<std::string> targets;  // every positional argument (wait takes several ids)
+  std::vector<std::string> vary;     // sweep: KEY=V1,V2,...
+  bool reuse = false, priority_given = false, json_out = false, dry_run = false, zip = false;
   int priority = 0, limit = 20;
 };
 
@@ -50,9 +53,15 @@ Args parse(int argc, char** argv) {
     else if (s == "--priority") a.priority = api::parse_int_option(s, value(), -100, 100), a.priority_given = true;
     else if (s == "--owner") a.owner = value();
     else if (s == "--limit") a.limit = api::parse_int_option(s, value(), 1, 1000);
-    else if (a.target.empty() && s.rfind("--", 0) != 0) a.target = s;
+    else if (s == "--json") a.json_out = true;
+    else if (s == "--dry-run") a.dry_run = true;
+    else if (s == "--vary") a.vary.push_back(value());
+    else if (s == "--zip") a.zip = true;
+    else if (s == "--label") a.label = value();
+    else if (s.rfind("--", 0) != 0 && (a.targets.empty() || a.command == "wait")) a.targets.push_back(s);
     else throw std::invalid_argument("unexpected argument '" + s + "'");
   }
+  if (!a.targets.empty()) a.target = a.targets.front();
   return a;
 }
 
@@ -81,10 +90,108 @@ std::string need_id(const Args& a) {
   return a.target;
 }
 
+std::string read_spec(const std::string& file, const char* command) {
+  if (file.empty()) throw std::invalid_argument(std::string("'") + command + "' needs a spec file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot read spec file '" + file + "'");
+  std::stringstream spec;
+  spec << in.rdbuf();
+  return spec.str();
+}
+
+// --vary KEY=V1,V2,...: each value as JSON when it is JSON (10e3, true, "x"), as text otherwise.
+json parse_vary(const std::vector<std::string>& options) {
+  json vary = json::object();
+  for (const std::string& option : options) {
+    const auto eq = option.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == option.size())
+      throw std::invalid_argument("--vary needs KEY=V1,V2,..., got '" + option + "'");
+    json values = json::array();
+    std::stringstream list(option.substr(eq + 1));
+    for (std::string v; std::getline(list, v, ',');) {
+      json parsed = json::parse(v, nullptr, false);
+      values.push_back(parsed.is_discarded() ? json(v) : parsed);
+    }
+    vary[option.substr(0, eq)] = values;
+  }
+  return vary;
+}
+
+std::string human_cost(const json& c) {
+  char text[400];
+  const double seconds = c.value("expected_seconds", 0.0);
+  char when[48];
+  if (seconds < 10) std::snprintf(when, sizeof when, "%.2g s", seconds);
+  else if (seconds < 90) std::snprintf(when, sizeof when, "%.0f s", seconds);
+  else if (seconds < 5400) std::snprintf(when, sizeof when, "%.0f min", seconds / 60);
+  else std::snprintf(when, sizeof when, "%.1f h", seconds / 3600);
+  std::snprintf(text, sizeof text,
+                "%s: %.4g spheres in %.4g grains, about %.3g steps; peak memory about %.0f MB; about %s once started "
+                "(at %.3g sphere-steps/s, %s); %lld jobs queued ahead\n",
+                c.value("experiment", "").c_str(), c.value("spheres", 0.0), c.value("grains", 0.0), c.value("steps", 0.0),
+                c.value("memory_bytes", 0.0) / 1e6, when, c.value("sphere_steps_per_second", 0.0),
+                c.value("rate_basis", "").c_str(), c.value("queued_ahead", 0LL));
+  std::string out = text;
+  if (c.contains("over_budget")) out += "this server would refuse it: " + c["over_budget"].get<std::string>() + "\n";
+  return out;
+}
+
 void save(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
   if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
+}
+
+// granulab sweep SPEC --vary KEY=V1,V2 [--vary ...] [--zip] [--label L] --out DIR: one server sweep, watched
+// live; then DIR/sweep.csv (a row per job) and each job's curve and summary under DIR/<id>/.
+int run_sweep(httplib::Client& http, const Args& a) {
+  if (a.vary.empty()) throw std::invalid_argument("'sweep' needs at least one --vary KEY=V1,V2,...");
+  if (a.out.empty()) throw std::invalid_argument("'sweep' needs --out DIR");
+  json spec = json::parse(read_spec(a.target, "sweep"), nullptr, false);
+  if (spec.is_discarded()) throw std::invalid_argument("spec file '" + a.target + "' is not JSON");
+  const json vary = parse_vary(a.vary);
+  json body = {{"spec", spec}, {"vary", vary}, {"mode", a.zip ? "zip" : "product"}};
+  if (!a.label.empty()) body["label"] = a.label;
+  const json created = json::parse(call(http, a.server, "POST", "/v1/sweeps?priority=" + std::to_string(a.priority), body.dump()));
+  const std::string sweep = std::to_string(created["id"].get<long long>());
+  std::vector<std::string> ids;
+  for (const json& id : created["jobs"]) ids.push_back(std::to_string(id.get<long long>()));
+  std::fprintf(stderr, "sweep %s: %zu jobs (%s/v1/sweeps/%s; the page: %s/#/sweeps/%s)\n", sweep.c_str(), ids.size(),
+               a.server.c_str(), sweep.c_str(), a.server.c_str(), sweep.c_str());
+  const int waited = watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, ids);
+  if (waited == 130) return waited;
+  // The table: one row per job, its varied values, status, first yield and peak.
+  const fs::path out(a.out);
+  fs::create_directories(out);
+  const json table = json::parse(call(http, a.server, "GET", "/v1/sweeps/" + sweep));
+  std::string csv = "id";
+  for (const auto& [key, values] : vary.items()) csv += "," + key;
+  csv += ",status,first_yield_strain,first_yield_deviator_Pa,first_yield_over_p0,peak_strain,peak_deviator_Pa,peak_over_p0,warnings\n";
+  const auto cell = [](const json& point, const char* key) {
+    if (!point.is_object() || !point.contains(key)) return std::string();
+    char text[40];
+    std::snprintf(text, sizeof text, "%.9g", point[key].get<double>());
+    return std::string(text);
+  };
+  for (const json& j : table["jobs"]) {
+    csv += std::to_string(j["id"].get<long long>());
+    for (const auto& [key, values] : vary.items()) csv += "," + (j["values"].contains(key) ? j["values"][key].dump() : "");
+    const json y = j.value("first_yield", json()), p = j.value("peak", json());
+    csv += "," + j["status"].get<std::string>() + "," + cell(y, "strain") + "," + cell(y, "deviator") + "," +
+           cell(y, "deviator_over_p0") + "," + cell(p, "strain") + "," + cell(p, "deviator") + "," + cell(p, "deviator_over_p0") +
+           "," + std::to_string(j.value("warnings", json::array()).size()) + "\n";
+    const std::string id = std::to_string(j["id"].get<long long>());
+    fs::create_directories(out / id);
+    if (j["status"] == "succeeded" || j["status"] == "cancelled" || j["status"] == "failed") {
+      const httplib::Result r = http.Get(("/v1/jobs/" + id + "/curve?format=csv").c_str());
+      if (r && r->status == 200) save(out / id / "curve.csv", r->body);
+    }
+    const json job = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id));
+    if (job.contains("summary")) save(out / id / "summary.json", job["summary"].dump(2) + "\n");
+  }
+  save(out / "sweep.csv", csv);
+  std::fprintf(stderr, "sweep %s: %s/sweep.csv and one folder per job\n", sweep.c_str(), a.out.c_str());
+  return waited;
 }
 
 }  // namespace
@@ -95,16 +202,18 @@ int run_remote(int argc, char** argv) {
   http.set_read_timeout(60, 0);
   if (const char* token = std::getenv("GRANULAB_TOKEN")) http.set_bearer_token_auth(token);
   if (a.command == "submit") {
-    if (a.target.empty()) throw std::invalid_argument("'submit' needs a spec file");
-    std::ifstream in(a.target, std::ios::binary);
-    if (!in) throw std::invalid_argument("cannot read spec file '" + a.target + "'");
-    std::stringstream spec;
-    spec << in.rdbuf();
+    const std::string spec = read_spec(a.target, "submit");
     std::string path = "/v1/jobs?priority=" + std::to_string(a.priority);
     if (a.reuse) path += "&reuse=true";
-    std::cout << call(http, a.server, "POST", path, spec.str());
+    if (a.dry_run) path += "&dry_run=true";
+    const std::string reply = call(http, a.server, "POST", path, spec);
+    // The id alone, for scripts (ID=$(granulab submit spec.json)); --json for the whole reply.
+    if (a.json_out) std::cout << reply;
+    else if (a.dry_run) std::cout << human_cost(json::parse(reply));
+    else std::cout << json::parse(reply)["id"].get<long long>() << "\n";
     return 0;
   }
+  if (a.command == "sweep") return run_sweep(http, a);
   if (a.command == "status") {
     std::cout << json::parse(call(http, a.server, "GET", "/v1/jobs/" + need_id(a))).dump(2) << "\n";
     return 0;
@@ -128,29 +237,17 @@ int run_remote(int argc, char** argv) {
     if (!a.owner.empty()) path += "&owner=" + httplib::detail::encode_query_param(a.owner);
     const json list = json::parse(call(http, a.server, "GET", path));  // named: a temporary would dangle
     for (const json& j : list["jobs"])
-      std::printf("%6lld  %-10s %5.1f %%  %-20s %s\n", j["id"].get<long long>(), j["status"].get<std::string>().c_str(),
+      std::printf("%6lld  %-10s %5.1f %%  %-20s %s%s\n", j["id"].get<long long>(), j["status"].get<std::string>().c_str(),
                   100 * j["progress"].get<double>(), j["experiment"].get<std::string>().c_str(),
-                  j["label"].get<std::string>().c_str());
+                  j["label"].get<std::string>().c_str(),
+                  j.contains("warnings") ? ("  (" + std::to_string(j["warnings"].size()) + " warnings)").c_str() : "");
     return 0;
   }
   if (a.command == "wait") {
-    const std::string id = need_id(a);
-    for (;;) {
-      const json j = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id));
-      const std::string status = j["status"];
-      if (status == "succeeded") {
-        std::fprintf(stderr, "job %s succeeded\n", id.c_str());
-        return 0;
-      }
-      if (status == "failed" || status == "cancelled") {
-        std::fprintf(stderr, "job %s %s%s\n", id.c_str(), status.c_str(),
-                     j.contains("error") ? (": " + j["error"].get<std::string>()).c_str() : "");
-        return 1;
-      }
-      std::fprintf(stderr, "job %s %s %5.1f %%%s\n", id.c_str(), status.c_str(), 100 * j["progress"].get<double>(),
-                   j.contains("eta_seconds") ? (", ETA " + std::to_string(int(j["eta_seconds"].get<double>())) + " s").c_str() : "");
-      std::this_thread::sleep_for(std::chrono::seconds(2));
-    }
+    if (a.targets.empty()) throw std::invalid_argument("'wait' needs one or more job ids");
+    for (const std::string& id : a.targets)
+      if (id.find_first_not_of("0123456789") != std::string::npos) throw std::invalid_argument("'" + id + "' is not a job id");
+    return watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, a.targets);
   }
   if (a.command == "results") {
     const std::string id = need_id(a);
@@ -162,10 +259,18 @@ int run_remote(int argc, char** argv) {
     // A job that has not succeeded has no summary: its rows and snapshots so far are still worth having.
     const bool finished = job.contains("summary");
     if (finished) save(out / "summary.json", job["summary"].dump(2) + "\n");
+    save(out / "spec.json", job["spec"].dump(2) + "\n");
+    if (const httplib::Result svg = http.Get(("/v1/jobs/" + id + "/curve.svg").c_str()); svg && svg->status == 200)
+      save(out / "curve.svg", svg->body);
+    // Every snapshot in every format, named as `granulab run` names them.
     const json snapshots = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id + "/snapshots"));
     for (const json& s : snapshots["snapshots"]) {
-      const std::string k = std::to_string(s["index"].get<int>());
-      save(out / "snapshots" / ("snapshot_" + k + ".json"), call(http, a.server, "GET", "/v1/jobs/" + id + "/snapshots/" + k));
+      const std::string k = std::to_string(s["index"].get<int>()), base = "/v1/jobs/" + id + "/snapshots/" + k;
+      const fs::path stem = out / "snapshots" / ("snapshot_" + k);
+      save(stem.string() + ".json", call(http, a.server, "GET", base));
+      save(stem.string() + ".dump", call(http, a.server, "GET", base + "?format=dump"));
+      save(stem.string() + "_grains.vtk", call(http, a.server, "GET", base + "?format=vtk"));
+      save(stem.string() + "_interfaces.vtk", call(http, a.server, "GET", base + "?format=vtk_interfaces"));
     }
     if (!finished) {
       std::fprintf(stderr, "job %s is %s: its results so far are in %s (no summary.json)\n", id.c_str(),

@@ -52,9 +52,12 @@ class GranulabError(Exception):
 
 
 class Client:
-    def __init__(self, server=None, timeout=30.0, token=None):
+    def __init__(self, server=None, timeout=30.0, token=None, retries=3):
         # token: an access token of a server started with --token-file (default: GRANULAB_TOKEN).
+        # retries: how many times a request the server never answered is tried again (0.5, 1, 2 s apart):
+        # a restarting daemon or a dropped connection is not an error for a script polling a long sweep.
         self.token = token or os.environ.get("GRANULAB_TOKEN")
+        self.retries = retries
         server = server or os.environ.get("GRANULAB_SERVER") or DEFAULT_SERVER
         if "://" not in server:
             server = "http://" + server
@@ -62,7 +65,20 @@ class Client:
         self.timeout = timeout
 
     # -- transport -------------------------------------------------------------------------------
-    def _request(self, method, path, query=None, body=None, raw=False):
+    def _request(self, method, path, query=None, body=None, raw=False, binary=False):
+        for attempt in range(self.retries + 1):
+            try:
+                return self._request_once(method, path, query, body, raw, binary)
+            except GranulabError as e:
+                # Only what never reached an answer: a refused or reset connection, or 503 (too many
+                # connections). A POST is retried only when refused (it cannot have been received).
+                refused = e.code == "unreachable" and "refused" in (e.message or "").lower()
+                transient = (e.code == "unreachable" and (method != "POST" or refused)) or e.status == 503
+                if not transient or attempt == self.retries:
+                    raise
+                time.sleep(0.5 * 2 ** attempt)
+
+    def _request_once(self, method, path, query=None, body=None, raw=False, binary=False):
         url = self.server + path
         if query:
             query = {k: v for k, v in query.items() if v is not None}
@@ -79,7 +95,10 @@ class Client:
         req = urllib.request.Request(url, data=data, method=method, headers=headers)
         try:
             with urllib.request.urlopen(req, timeout=self.timeout) as resp:
-                payload = resp.read().decode("utf-8")
+                payload = resp.read()
+                if binary:
+                    return payload
+                payload = payload.decode("utf-8")
                 status = resp.status
         except urllib.error.HTTPError as e:
             raise self._error_from(e.code, e.read().decode("utf-8", "replace")) from None
@@ -105,24 +124,32 @@ class Client:
             err = {"message": text.strip()[:500]}
         return GranulabError(status, err.get("code"), err.get("message"), err.get("field"))
 
+    @staticmethod
+    def _spec_body(spec):
+        if isinstance(spec, dict):
+            return json.dumps(spec)
+        if isinstance(spec, (str, os.PathLike)) and os.path.exists(spec):
+            with open(spec, encoding="utf-8") as f:
+                return f.read()
+        if isinstance(spec, str) and spec.lstrip().startswith("{"):
+            return spec
+        raise FileNotFoundError(f"spec file not found: {spec}")
+
     # -- API ---------------------------------------------------------------------------------------
     def submit(self, spec, reuse=False, priority=None):
         """Submit a spec (a dict, a JSON string, or a path to a JSON file). Returns the job id."""
-        if isinstance(spec, dict):
-            body = json.dumps(spec)
-        elif isinstance(spec, (str, os.PathLike)) and os.path.exists(spec):
-            with open(spec, encoding="utf-8") as f:
-                body = f.read()
-        elif isinstance(spec, str) and spec.lstrip().startswith("{"):
-            body = spec
-        else:
-            raise FileNotFoundError(f"spec file not found: {spec}")
+        body = self._spec_body(spec)
         query = {}
         if reuse:
             query["reuse"] = "true"
         if priority is not None:
             query["priority"] = int(priority)
         return int(self._request("POST", "/v1/jobs", query, body)["id"])
+
+    def dry_run(self, spec):
+        """What a spec would cost on this server, without queueing it: spheres, grains, steps, memory_bytes,
+        expected_seconds (at the server's recent speed) and over_budget when it would be refused."""
+        return self._request("POST", "/v1/jobs", {"dry_run": "true"}, self._spec_body(spec))
 
     def status(self, job_id):
         return self._request("GET", f"/v1/jobs/{int(job_id)}")
@@ -147,9 +174,49 @@ class Client:
                 raise TimeoutError(f"job {job_id} still {state} after {timeout} s")
             time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
 
+    def wait_all(self, job_ids, timeout=None, poll=1.0, on_progress=None):
+        """Poll until every job has finished; returns {id: final status dict} (failed and cancelled jobs
+        included: check each "status"). on_progress(list of status dicts) is called at every poll; raises
+        TimeoutError if `timeout` seconds pass first."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        done = {}
+        while True:
+            current = [done.get(int(i)) or self.status(i) for i in job_ids]
+            for st in current:
+                if st.get("status") in ("succeeded", "failed", "cancelled"):
+                    done[int(st["id"])] = st
+            if on_progress is not None:
+                on_progress(current)
+            if len(done) == len(set(int(i) for i in job_ids)):
+                return done
+            if deadline is not None and time.monotonic() >= deadline:
+                raise TimeoutError(f"{len(job_ids) - len(done)} jobs still unfinished after {timeout} s")
+            time.sleep(poll)
+
     def curve(self, job_id):
-        """The curve as JSON columns; while the job runs, the rows computed so far."""
+        """The curve as columns: {"columns": [names], name: [values], ...}; while the job runs, the rows
+        computed so far."""
         return self._request("GET", f"/v1/jobs/{int(job_id)}/curve")
+
+    def to_pandas(self, job_id):
+        """The curve as a pandas DataFrame (pandas is never a dependency: ImportError without it)."""
+        try:
+            import pandas
+        except ImportError:
+            raise ImportError("to_pandas needs pandas (Debian: python3-pandas); curve() gives the same columns") from None
+        c = self.curve(job_id)
+        return pandas.DataFrame({name: c[name] for name in c["columns"]})
+
+    def snapshot_file(self, job_id, k, fmt="dump"):
+        """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO), "vtk" or "vtk_interfaces" (ParaView), "json"."""
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}", {"format": fmt}, raw=True)
+
+    def archive(self, job_id, path):
+        """Saves everything of a job (spec, summary, curve, every snapshot in every format) as a tar at `path`."""
+        data = self._request("GET", f"/v1/jobs/{int(job_id)}/archive", raw=True, binary=True)
+        with open(path, "wb") as f:
+            f.write(data)
+        return path
 
     def curve_csv(self, job_id):
         return self._request("GET", f"/v1/jobs/{int(job_id)}/curve", {"format": "csv"}, raw=True)

@@ -431,6 +431,18 @@ std::optional<std::string> JobStore::live_curve_csv(std::int64_t id) {
   return csv;
 }
 
+std::optional<std::pair<std::string, std::string>> JobStore::latest_row(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
+  header.bind(1, id);
+  if (!header.step()) return std::nullopt;
+  std::string head = header.column_text(0);
+  Statement last(*db_, "SELECT line FROM curve_rows WHERE job_id = ?1 ORDER BY idx DESC LIMIT 1");
+  last.bind(1, id);
+  if (head.empty() || !last.step()) return std::nullopt;
+  return std::make_pair(std::move(head), last.column_text(0));
+}
+
 void JobStore::add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob) {
   std::lock_guard<std::mutex> lock(mutex_);
   Statement st(*db_,

@@ -160,6 +160,9 @@ class JobStore {
   /// The curve as CSV: the stored whole curve of a succeeded job, else the header and the rows written so
   /// far (running, and what a cancelled or failed job computed); nullopt when there is none.
   std::optional<std::string> live_curve_csv(std::int64_t id);
+  /// The curve's header line and its latest stored row (CSV, newlines included) while the job runs or after
+  /// it stopped without succeeding; nullopt when no row is stored.
+  std::optional<std::pair<std::string, std::string>> latest_row(std::int64_t id);
 
   /// Stores snapshot `index` of a job as a BLOB (replacing one already stored under that index).
   void add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob);

@@ -90,6 +90,22 @@ function duration(s) {
 }
 
 function statusCell(status) { return el("span", { class: "status status-" + status }, status); }
+// A job's warnings (criteria the run missed) as a mark whose tooltip lists them.
+function warningMark(warnings) {
+  if (!warnings || !warnings.length) return null;
+  return el("span", { class: "warning", title: warnings.join("\n") }, " ⚠ " + warnings.length);
+}
+// A running job's latest row: its strain and stresses now.
+function latestText(latest) {
+  if (!latest) return "";
+  const parts = [];
+  if (latest.strain !== undefined) parts.push("strain " + fmt(100 * latest.strain) + " %");
+  if (latest.deviator !== undefined) parts.push("deviator " + fmt(latest.deviator / 1e3, 4) + " kPa");
+  if (latest.stress_top !== undefined) parts.push("top " + fmt(latest.stress_top / 1e3, 4) + " kPa");
+  if (latest.slide_over_size !== undefined) parts.push("u/l " + fmt(latest.slide_over_size));
+  if (latest.tangential_over_p0 !== undefined) parts.push("T/P0 " + fmt(latest.tangential_over_p0));
+  return parts.join(", ");
+}
 function when(ms) { return ms ? new Date(ms).toLocaleString() : ""; }
 function fmt(x, digits = 3) { return typeof x === "number" ? Number(x.toPrecision(digits)).toString() : ""; }
 // replaceChildren, skipping null and undefined (which the DOM would write as text).
@@ -110,8 +126,9 @@ async function listView() {
         el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
         el("td", {}, el("a", { href: "#/jobs/" + j.id }, j.label || "(no label)"),
           j.sweep_id ? el("span", { class: "hint" }, " · ", el("a", { href: "#/sweeps/" + j.sweep_id }, "sweep " + j.sweep_id)) : null),
-        el("td", {}, j.experiment), el("td", { class: "status-cell" }, statusCell(j.status)),
-        el("td", {}, progressBar(j)), el("td", {}, j.owner || ""), el("td", {}, when(j.created_ms)))));
+        el("td", {}, j.experiment), el("td", { class: "status-cell" }, statusCell(j.status), warningMark(j.warnings)),
+        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest)) : null),
+        el("td", {}, j.owner || ""), el("td", {}, when(j.created_ms)))));
     if (!jobs.jobs.length) jobsTable.append(el("tr", {}, el("td", { colspan: 7 }, "No jobs yet: ", el("a", { href: "#/submit" }, "submit one"))));
     fill(sweepsTable, el("tr", {}, ["id", "label", "varied", "owner", "created"].map((h) => el("th", {}, h))),
       ...sweeps.sweeps.map((s) => el("tr", { "data-id": s.id },
@@ -157,11 +174,12 @@ async function jobView(id) {
   let known = -1;
   const refresh = async () => {
     const job = await getJson("/v1/jobs/" + id);
-    const warnings = (job.summary && job.summary.warnings) || [];
+    const warnings = job.warnings || [];
     fill(head, 
       el("h1", {}, "Job " + job.id + ": " + (job.label || job.experiment)),
       el("p", {}, statusCell(job.status), "  ", progressBar(job),
         live(job) ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/jobs/${id}/cancel`); } }, "Cancel") : null),
+      job.latest ? el("p", { id: "latest" }, "now: " + latestText(job.latest)) : null,
       job.error ? el("p", { class: "error" }, job.error) : null,
       ...warnings.map((w) => el("p", {}, el("span", { class: "warning" }, "⚠ " + w))),
       el("p", { class: "hint" }, job.experiment, job.owner ? " · owner " + job.owner : "",
@@ -205,8 +223,8 @@ async function sweepView(id) {
       ...sweep.jobs.map((j) => el("tr", { "data-id": j.id },
         el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
         ...keys.map((k) => el("td", { class: "num" }, JSON.stringify(j.values[k]))),
-        el("td", {}, statusCell(j.status), j.error ? el("div", { class: "error" }, j.error) : null),
-        el("td", {}, progressBar(j)),
+        el("td", {}, statusCell(j.status), warningMark(j.warnings), j.error ? el("div", { class: "error" }, j.error) : null),
+        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest)) : null),
         el("td", { class: "num" }, j.first_yield ? fmt(j.first_yield.deviator_over_p0) : ""),
         el("td", { class: "num" }, j.first_yield ? fmt(100 * j.first_yield.strain) : ""),
         el("td", { class: "num" }, j.peak ? fmt(j.peak.deviator_over_p0) : ""),

@@ -232,7 +232,8 @@ TEST_F(Daemon, CliRemoteCommands) {
 
   auto [code, out] = shell(cli + " submit " + spec.string() + server);
   ASSERT_EQ(code, 0) << out;
-  const std::int64_t id = json::parse(out)["id"];
+  ASSERT_EQ(out.find_first_not_of("0123456789\n"), std::string::npos) << "submit prints the id alone: " << out;
+  const std::int64_t id = std::stoll(out);
   std::tie(code, out) = shell(cli + " wait " + std::to_string(id) + server);
   EXPECT_EQ(code, 0) << out;
   std::tie(code, out) = shell(cli + " results " + std::to_string(id) + " --out " + (dir_ / "r").string() + server);
@@ -241,6 +242,7 @@ TEST_F(Daemon, CliRemoteCommands) {
   std::stringstream text;
   text << curve.rdbuf();
   EXPECT_EQ(text.str(), api::run_spec(api::parse_spec_text(kTwoCube)).curve_csv);
+  for (const char* file : {"summary.json", "spec.json", "curve.svg"}) EXPECT_TRUE(fs::exists(dir_ / "r" / file)) << file;
   std::tie(code, out) = shell(cli + " list" + server);
   EXPECT_EQ(code, 0);
   EXPECT_NE(out.find("succeeded"), std::string::npos) << out;
@@ -272,6 +274,78 @@ TEST_F(Daemon, CliRemoteCommands) {
   EXPECT_FALSE(fs::exists(dir_ / "partial" / "summary.json"));
   std::tie(code, out) = shell(cli + " status " + std::to_string(id) + server);
   EXPECT_NE(out.find("404"), std::string::npos) << out;
+}
+
+// submit --json and --dry-run; wait on several jobs; a sweep from the command line with its table and folders;
+// results of a crystal with its snapshots in every format.
+TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
+  pool_->start();
+  const std::string cli = std::string(GRANULAB_BINARY_DIR) + "/granulab";
+  const std::string server = " --server http://127.0.0.1:" + std::to_string(port_);
+  const fs::path spec = dir_ / "spec.json";
+  std::ofstream(spec) << kTwoCube;
+
+  auto [code, out] = shell(cli + " submit " + spec.string() + " --json" + server);
+  ASSERT_EQ(code, 0) << out;
+  const std::int64_t first = json::parse(out)["id"];
+  std::tie(code, out) = shell(cli + " submit " + spec.string() + " --dry-run" + server);
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("two_cube_sliding: "), std::string::npos) << out;
+  EXPECT_NE(out.find("once started"), std::string::npos) << out;
+  std::tie(code, out) = shell(cli + " submit " + spec.string() + " --dry-run --json" + server);
+  const json cost = json::parse(out);
+  EXPECT_TRUE(cost["dry_run"].get<bool>());
+  EXPECT_GT(cost["expected_seconds"].get<double>(), 0);
+  EXPECT_EQ(get("/v1/jobs?limit=1000")["jobs"].size(), 1u) << "a dry run queued a job";
+
+  // wait on two jobs: one line each at the end, exit 0 when both succeeded.
+  std::tie(code, out) = shell(cli + " submit " + spec.string() + server);
+  const std::int64_t second = std::stoll(out);
+  std::tie(code, out) = shell(cli + " wait " + std::to_string(first) + " " + std::to_string(second) + server);
+  EXPECT_EQ(code, 0) << out;
+  for (std::int64_t id : {first, second})
+    EXPECT_NE(out.find("job " + std::to_string(id)), std::string::npos) << out;
+  EXPECT_NE(out.find("succeeded [####################] 100.0 %"), std::string::npos) << out;
+
+  // A sweep: 2 x 2 jobs, sweep.csv with a row each and the varied values, a folder per job with its curve.
+  std::tie(code, out) = shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,0.3 --vary loading.max_slide=0.2,0.4" +
+                              " --label cli --out " + (dir_ / "sweep").string() + server);
+  ASSERT_EQ(code, 0) << out;
+  std::ifstream table(dir_ / "sweep" / "sweep.csv");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(table, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[0].rfind("id,loading.max_slide,material.friction,status,", 0), 0u) << rows[0];
+  std::set<std::string> points;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    std::stringstream cells(rows[r]);
+    std::string id, slide, friction, status;
+    std::getline(cells, id, ','), std::getline(cells, slide, ','), std::getline(cells, friction, ','), std::getline(cells, status, ',');
+    EXPECT_EQ(status, "succeeded") << rows[r];
+    points.insert(slide + "/" + friction);
+    const json job = get("/v1/jobs/" + id);
+    EXPECT_EQ(job["spec"]["loading"]["max_slide"].dump(), slide);
+    EXPECT_EQ(job["spec"]["material"]["friction"].dump(), friction);
+    EXPECT_TRUE(fs::exists(dir_ / "sweep" / id / "curve.csv")) << id;
+    EXPECT_TRUE(fs::exists(dir_ / "sweep" / id / "summary.json")) << id;
+  }
+  EXPECT_EQ(points, (std::set<std::string>{"0.2/0.1", "0.2/0.3", "0.4/0.1", "0.4/0.3"}));
+  std::tie(code, out) = shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,99 --out " + (dir_ / "bad").string() + server);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("vary.material.friction"), std::string::npos) << out;
+
+  // results of a crystal: every snapshot in the four formats, as `granulab run` names them.
+  const std::int64_t crystal = post("/v1/jobs", R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+    "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3, "max_strain": 2e-3,
+    "rate_number": 1e-4}, "output": {"curve_points": 5, "snapshot_strains": [0, 2e-3]}})", 201)["id"];
+  ASSERT_EQ(wait(crystal)["status"], "succeeded");
+  std::tie(code, out) = shell(cli + " results " + std::to_string(crystal) + " --out " + (dir_ / "crystal").string() + server);
+  ASSERT_EQ(code, 0) << out;
+  for (int k : {0, 1})
+    for (const char* suffix : {".json", ".dump", "_grains.vtk", "_interfaces.vtk"}) {
+      const fs::path file = dir_ / "crystal" / "snapshots" / ("snapshot_" + std::to_string(k) + suffix);
+      EXPECT_TRUE(fs::exists(file) && fs::file_size(file) > 100) << file;
+    }
 }
 
 }  // namespace

@@ -1,0 +1,23 @@
+// `granulab wait` and the live part of `granulab sweep`: one line per job with a progress bar, the ETA
+// and the latest strain and stress, redrawn in place on a terminal (a line per change in a log). Ctrl-C
+// stops the waiting, not the jobs, and says so.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace granulab::cli {
+
+/// GET of a path on the server, returning the parsed body (throws with the server's message).
+using JsonGetter = std::function<nlohmann::json(const std::string& path)>;
+
+/// Waits until every job has finished. Returns 0 when all succeeded, 1 when any did not, 130 after Ctrl-C.
+int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids);
+
+/// One job's line: "job 12  running    [#####.....]  48.0 %  ETA 3 min  strain 1.20 %  deviator 84.1 kPa".
+std::string job_line(const nlohmann::json& job, int bar_width = 20);
+
+}  // namespace granulab::cli
