@@ -14,13 +14,14 @@ trap 'kill -TERM $daemon 2>/dev/null; wait $daemon 2>/dev/null' EXIT INT TERM
 for _ in $(seq 100); do "$build/granulab" list >/dev/null 2>&1 && break; sleep 0.1; done
 
 echo "== submitting examples/two_cube_f03.json (two sliding cubes, f = 0.3; Fig. 5c of the paper)"
-reply=$("$build/granulab" submit examples/two_cube_f03.json --reuse)
-id=$(echo "$reply" | sed -n 's/.*"id":\([0-9]*\).*/\1/p')
-echo "$reply"
+id=$("$build/granulab" submit examples/two_cube_f03.json --reuse)   # prints the job id
+echo "job $id"
 "$build/granulab" wait "$id"
 "$build/granulab" results "$id" --out out/demo
 echo "== first rows of out/demo/curve.csv (u/l, P/P0, T/P0, P, T):"
 head -5 out/demo/curve.csv
-echo "== granulabd keeps serving at $GRANULAB_SERVER (database $db): try"
-echo "   build/granulab list     build/granulab submit examples/fig7c_p30.json     (Ctrl-C stops the daemon)"
+echo "== granulabd keeps serving at $GRANULAB_SERVER (database $db). Open $GRANULAB_SERVER/ in a browser; try"
+echo "   build/granulab submit examples/crystal_quick.json          (a small crystal, about 15 s)"
+echo "   build/granulab submit examples/fig7c_p30.json --dry-run    (the paper's size: its cost first, hours)"
+echo "   (Ctrl-C stops the daemon)"
 wait $daemon

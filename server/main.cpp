@@ -130,8 +130,10 @@ int main(int argc, char** argv) {
       spdlog::info("signal {}: stopping", sig);
       http.stop();
     });
-    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s), {})", host, bound, db,
-                 workers, threads, options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)");
+    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s), {}); the web page is "
+                 "http://{}:{}/, the API document /v1/openapi.json",
+                 host, bound, db, workers, threads,
+                 options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
     http.serve();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.

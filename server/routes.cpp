@@ -244,7 +244,10 @@ json HttpServer::cost_estimate(const api::Spec& spec) {
   const std::string experiment = spec.normalized["experiment"].get<std::string>();
   // The speed of this server: the median rate of its recent succeeded jobs of the same experiment (of any,
   // failing that); with none, 5e7 sphere-steps per second per thread, what the crystal runs at here.
-  std::vector<double> same, any;
+  // The workload's step count is an upper bound (confinement until converged, at most its step limit):
+  // the same jobs also say what fraction of it runs took (their steps over their own estimate).
+  // With no similar run, the bound itself: an upper estimate.
+  std::vector<double> same, any, used;
   for (const JobRecord& j : store_.list("succeeded", 50, 0, "")) {
     const json summary = json::parse(j.summary_json, nullptr, false);
     if (!summary.is_object() || !summary.contains("sphere_steps_per_second") ||
@@ -253,7 +256,24 @@ json HttpServer::cost_estimate(const api::Spec& spec) {
     const double rate = summary["sphere_steps_per_second"].get<double>();
     if (!(rate > 0)) continue;
     any.push_back(rate);
-    if (j.experiment == experiment) same.push_back(rate);
+    if (j.experiment != experiment) continue;
+    same.push_back(rate);
+    if (summary.contains("steps") && summary["steps"].is_number()) {
+      try {
+        // Only runs of a similar length: the fraction depends on the loading (a slow rate spends longer
+        // compressing, a small crystal converges sooner), so unlike runs would mislead.
+        const double bound = api::parse_spec_text(j.spec_json).experiment->workload().steps;
+        if (bound > 0.5 * w.steps && bound < 2 * w.steps)
+          used.push_back(std::clamp(summary["steps"].get<double>() / bound, 0.01, 1.0));
+      } catch (const std::exception&) {
+        // a spec this build no longer accepts says nothing about this one
+      }
+    }
+  }
+  double fraction = 1;
+  if (!used.empty()) {
+    std::nth_element(used.begin(), used.begin() + used.size() / 2, used.end());
+    fraction = used[used.size() / 2];
   }
   std::vector<double>& rates = same.empty() ? any : same;
   std::string basis = same.empty() ? (any.empty() ? "typical" : "recent jobs of other experiments")
@@ -272,7 +292,8 @@ json HttpServer::cost_estimate(const api::Spec& spec) {
               {"memory_bytes", w.peak_bytes()},
               {"sphere_steps_per_second", rate},
               {"rate_basis", basis},
-              {"expected_seconds", w.sphere_steps() / rate},
+              {"expected_seconds", fraction * w.sphere_steps() / rate},
+              {"steps_fraction", fraction},
               {"queued_ahead", store_.count("queued")},
               {"units", {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
   if (const std::string problem = budget_problem(spec); !problem.empty()) out["over_budget"] = problem;
