@@ -36,7 +36,8 @@ Sweep parse_sweep(const json& request, std::size_t max_jobs) {
     if (key != "spec" && key != "vary" && key != "mode" && key != "label")
       throw SpecError("unknown_field", key, "unknown field '" + key + "' (a sweep has spec, vary, mode, label)");
   Sweep s;
-  s.base = request.value("spec", json::object());
+  if (!request.contains("spec")) throw SpecError("missing", "spec", "'spec' (the base spec every point starts from) is required");
+  s.base = request["spec"];
   if (!s.base.is_object()) throw SpecError("wrong_type", "spec", "'spec' must be an object (the base spec)");
   s.mode = request.contains("mode") && request["mode"].is_string() ? request["mode"].get<std::string>() : "product";
   if (request.contains("mode") && !request["mode"].is_string()) throw SpecError("wrong_type", "mode", "'mode' must be \"product\" or \"zip\"");
@@ -81,13 +82,21 @@ Sweep parse_sweep(const json& request, std::size_t max_jobs) {
     try {
       s.points.push_back({values, parse_spec(doc)});
     } catch (const SpecError& e) {
-      std::string culprit = e.field;
+      // The base spec's own fault when it fails alone; otherwise the varied key the error is about: the
+      // field itself, one inside it, or the section a key that does not exist was put in ("bogus.x").
+      try {
+        parse_spec(s.base);
+      } catch (const SpecError& base) {
+        throw SpecError(base.code, base.field.empty() ? "spec" : "spec." + base.field,
+                        std::string("the base spec: ") + base.what());
+      }
+      std::string culprit;
       for (const std::string& k : keys)
-        if (e.field == k || e.field.rfind(k + ".", 0) == 0 || e.field.rfind(k + "[", 0) == 0) culprit = k;
-      const bool varied = values.contains(culprit);
-      throw SpecError(e.code, varied ? "vary." + culprit : (e.field.empty() ? "spec" : "spec." + e.field),
-                      varied ? "'vary." + culprit + "' value " + short_text(values[culprit]) + ": " + e.what()
-                             : std::string("the base spec: ") + e.what());
+        if (e.field == k || e.field.rfind(k + ".", 0) == 0 || e.field.rfind(k + "[", 0) == 0 || e.field.empty() ||
+            k.rfind(e.field + ".", 0) == 0 || k.rfind(e.field + "[", 0) == 0)
+          if (culprit.empty()) culprit = k;
+      if (culprit.empty()) culprit = keys.front();
+      throw SpecError(e.code, "vary." + culprit, "'vary." + culprit + "' value " + short_text(values[culprit]) + ": " + e.what());
     }
   }
   return s;

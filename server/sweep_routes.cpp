@@ -23,8 +23,10 @@ void HttpServer::sweep_routes() {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    // Over budget: which point, by its values.
     for (const api::SweepPoint& p : sweep.points)
-      if (!within_budget(p.spec, res)) return;
+      if (const std::string problem = budget_problem(p.spec); !problem.empty())
+        return error(res, 400, "over_budget", "the point " + p.values.dump() + ": " + problem, "vary");
     const User who = caller(req).value_or(User{});
     if (!within_queue_quota(who, sweep.points.size(), res)) return;
     std::vector<JobStore::SweepJob> jobs;

@@ -25,6 +25,10 @@ std::string xml_escape(const std::string& text) {
       const int length = (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
       bool ok = length > 0 && i + length <= text.size();
       for (int k = 1; ok && k < length; ++k) ok = (static_cast<unsigned char>(text[i + k]) >> 6) == 2;
+      // XML 1.0 has no U+FFFE, U+FFFF or surrogates (ED A0..BF ..): drop them too.
+      const auto byte = [&](int k) { return static_cast<unsigned char>(text[i + k]); };
+      if (ok && length == 3 && c == 0xEF && byte(1) == 0xBF && byte(2) >= 0xBE) ok = false;
+      if (ok && length == 3 && c == 0xED && byte(1) >= 0xA0) ok = false;
       if (ok) out.append(text, i, length), i += length - 1;
       continue;
     }

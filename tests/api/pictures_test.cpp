@@ -199,6 +199,7 @@ TEST(SvgText, EscapesMarkupAndDropsWhatXmlCannotHold) {
   EXPECT_EQ(xml_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&apos;");
   EXPECT_EQ(xml_escape("p\xc3\xa9tanque"), "p\xc3\xa9tanque");  // UTF-8 kept
   EXPECT_EQ(xml_escape("bad\xff\xc3 byte\x01"), "bad byte");     // stray bytes and controls dropped
+  EXPECT_EQ(xml_escape("a\xef\xbf\xbf\xef\xbf\xbe\xed\xa0\x80" "b\xef\xbf\xbd"), "ab\xef\xbf\xbd");  // U+FFFF, U+FFFE, a surrogate: not XML
   EXPECT_EQ(num(NAN), "0");
   EXPECT_EQ(num(1.23456789, 3), "1.23");
 }

@@ -8,6 +8,8 @@ value of a named spec field or query parameter) names it in `error.field` as a d
 ("grain.edge_spheres", "crystal.knockout_regions[0].x", "limit"); and the daemon is still up (its process
 after every case, GET /v1/health every 20 cases and at the end). A daemon that dies is counted as a crash,
 restarted on the same file, and the suite goes on. One subTest per case, so one failure hides no other.
+Good requests are cases too: the pictures are SVG that xml.etree parses, the archives tars that tarfile opens, and
+a refused sweep leaves no job behind.
 
 Run from the repository root:  /usr/bin/python3 tests/server/bad_input_test.py
 Standard library only; the daemon binary comes from $GRANULABD (set by CTest) or build/granulabd, started with
@@ -15,6 +17,7 @@ Standard library only; the daemon binary comes from $GRANULABD (set by CTest) or
 """
 import gzip
 import http.client
+import io
 import json
 import os
 import re
@@ -24,9 +27,11 @@ import signal
 import socket
 import subprocess
 import sys
+import tarfile
 import tempfile
 import time
 import unittest
+import xml.etree.ElementTree as ET
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -96,6 +101,321 @@ class Case:
 
 def post_spec(name, body, **kw):
     return Case(name, "POST", "/v1/jobs", body, **kw)
+
+
+def post_sweep(name, body, query="", **kw):
+    """POST /v1/sweeps with `body` (a document, dumped with dumps(), or bytes as they are)."""
+    return Case(name, "POST", "/v1/sweeps" + query, body if isinstance(body, bytes) else dumps(body), **kw)
+
+
+# -- checks of good answers (Case.check) ------------------------------------------------------------------------
+def content_type(*types):
+    """The answer's Content-Type is one of `types` (parameters such as charset aside)."""
+    def check(test, status, headers, body, interim):
+        got = headers.get("content-type", "")
+        test.assertIn(got.split(";")[0].strip(), types, f"Content-Type {got!r}")
+    return check
+
+
+def both(*checks):
+    def check(test, status, headers, body, interim):
+        for c in checks:
+            c(test, status, headers, body, interim)
+    return check
+
+
+def svg_parses(test, status, headers, body, interim):
+    """A 200 is an SVG document xml.etree parses (a label with < & or control characters must not break it)."""
+    if status != 200:
+        return
+    test.assertEqual(headers.get("content-type", "").split(";")[0], "image/svg+xml", headers.get("content-type"))
+    try:
+        root = ET.fromstring(body)
+    except ET.ParseError as e:
+        test.fail(f"the SVG does not parse: {e}: {body[:200]!r}")
+    test.assertTrue(root.tag.endswith("svg"), root.tag)
+
+
+def tar_holds(job, required, forbidden=()):
+    """A 200 is a tar (application/x-tar) tarfile opens, every member under job_<id>/, holding `required`
+    (names under that folder) and none of `forbidden`; every .svg in it parses and every .json loads."""
+    def check(test, status, headers, body, interim):
+        if status != 200:
+            return
+        got = headers.get("content-type", "")
+        test.assertEqual(got.split(";")[0], "application/x-tar", got)
+        try:
+            tar = tarfile.open(fileobj=io.BytesIO(body))
+            members = tar.getmembers()
+        except tarfile.TarError as e:
+            test.fail(f"tarfile cannot open the archive: {e}")
+        names = [m.name for m in members]
+        for name in names:
+            test.assertTrue(name.startswith(f"job_{job}/") and ".." not in name.split("/"), f"member {name!r}")
+        for name in required:
+            test.assertIn(f"job_{job}/{name}", names, f"{name} missing from the archive: {names}")
+        for name in forbidden:
+            test.assertNotIn(f"job_{job}/{name}", names)
+        for m in members:
+            test.assertTrue(m.isfile(), m.name)
+            data = tar.extractfile(m).read()
+            try:
+                if m.name.endswith(".svg"):
+                    ET.fromstring(data)
+                elif m.name.endswith(".json"):
+                    json.loads(data)
+            except (ET.ParseError, ValueError) as e:
+                test.fail(f"{m.name} in the archive does not parse: {e}")
+    return check
+
+
+def json_holds(**expected):
+    """A 200 is a JSON object with these values (a callable value is a predicate of the value)."""
+    def check(test, status, headers, body, interim):
+        if status // 100 != 2:
+            return
+        answer = json.loads(body)
+        for key, want in expected.items():
+            test.assertIn(key, answer, f"no {key!r} in {body[:200]!r}")
+            if callable(want):
+                test.assertTrue(want(answer[key]), f"{key} = {answer[key]!r}")
+            else:
+                test.assertEqual(answer[key], want, key)
+    return check
+
+
+def field_starts(prefix):
+    """A 4xx whose error.field starts with `prefix` (and goes on after it): 'vary.' or 'spec.'."""
+    def check(test, status, headers, body, interim):
+        if 400 <= status < 500:
+            field = json.loads(body)["error"]["field"]
+            test.assertTrue(field.startswith(prefix) and len(field) > len(prefix),
+                            f"error.field {field!r} does not start with {prefix!r}: {body[:300]!r}")
+    return check
+
+
+def nothing_made(marker):
+    """After a refused sweep, no sweep and no job labelled with `marker` exists: a sweep is all or nothing."""
+    def check(test, status, headers, body, interim):
+        for path, key in (("/v1/sweeps?limit=1000", "sweeps"), ("/v1/jobs?limit=1000", "jobs")):
+            got, _, listing = test.http("GET", path)
+            test.assertEqual(got, 200, listing[:200])
+            made = [x["id"] for x in json.loads(listing)[key] if marker in x.get("label", "")]
+            test.assertEqual(made, [], f"the refused sweep left {key} behind: {made}")
+    return check
+
+
+def sweep_cases():
+    """POST /v1/sweeps bodies: the envelope {spec, vary, mode, label}, the dotted keys of vary and their lists,
+    the base spec. docs/api.md: a 400 names `vary.<key>` (or `spec.<field>` for the base spec), and nothing is
+    created unless every point is valid."""
+    two, crystal = tiny("two_cube_sliding"), tiny("crystal_compression")
+    vary = {"loading.rate_number": [0.05, 0.1]}
+    ok = {"spec": two, "vary": vary}
+    deep = lambda n: raw("[" * n + "]" * n)
+    S = post_sweep
+    c = [
+        # Not a JSON object.
+        S("sweep: empty body", b"", expect=400, code="invalid_json"),
+        S("sweep: not JSON", b"spec=1&vary=2", expect=400, code="invalid_json"),
+        S("sweep: truncated", dumps(ok)[:-1], expect=400, code="invalid_json"),
+        S("sweep: trailing garbage", dumps(ok) + b" {}", expect=400, code="invalid_json"),
+        S("sweep: invalid UTF-8 in the label", dumps(dict(ok, label="@")).replace(b"@", b"\xff"), expect=400,
+          code="invalid_json"),
+        S("sweep: invalid UTF-8 in a vary key", dumps(ok).replace(b"loading.rate_number", b"loading.rate\xc3("),
+          expect=400, code="invalid_json"),
+        S("sweep: NaN token in a list", {"spec": two, "vary": {"loading.rate_number": [raw("NaN")]}}, expect=400,
+          code="invalid_json"),
+        S("sweep: top level null", b"null", expect=400, field=""),
+        S("sweep: top level number", b"7", expect=400, field=""),
+        S("sweep: top level string", b'"sweep"', expect=400, field=""),
+        S("sweep: top level array", dumps([ok]), expect=400, field=""),
+        # The envelope's keys.
+        S("sweep: empty object", {}, expect=400, field=("spec", "vary")),
+        S("sweep: unknown key", dict(ok, bogus=1), expect=400, field="bogus", code="unknown_field"),
+        S("sweep: key in capitals", {"Spec": two, "vary": vary}, expect=400, field="Spec", code="unknown_field"),
+        S("sweep: spec given twice", dumps(ok)[:-1] + b', "spec": ' + dumps(two) + b"}", expect=400, field="spec",
+          code="duplicate_field"),
+        S("sweep: vary given twice", dumps(ok)[:-1] + b', "vary": ' + dumps(vary) + b"}", expect=400, field="vary",
+          code="duplicate_field"),
+        S("sweep: a vary key given twice", dumps({"spec": two, "vary": {"label": ["a"]}})[:-2]
+          + b', "label": ["b"]}}', expect=400, field="vary.label", code="duplicate_field"),
+        S("sweep: label given twice", dumps(dict(ok, label="a"))[:-1] + b', "label": "b"}', expect=400, field="label",
+          code="duplicate_field"),
+        # spec: required (docs/openapi.json SweepRequest), an object, and valid where vary does not set it.
+        # (A sweep without "spec" used to run the default, full-size experiment.)
+        S("sweep: missing spec", {"vary": {"label": ["missing spec"]}}, expect=400, field="spec"),
+        S("sweep: spec null", {"spec": None, "vary": vary}, expect=400, field="spec"),
+        S("sweep: spec a list", {"spec": [two], "vary": vary}, expect=400, field="spec"),
+        S("sweep: spec a string", {"spec": "two_cube_sliding", "vary": vary}, expect=400, field="spec"),
+        S("sweep: spec with an unknown key", dict(ok, spec=dict(two, bogus=1)), expect=400, field="spec.bogus",
+          code="unknown_field"),
+        S("sweep: spec with an unknown experiment", dict(ok, spec={"experiment": "nope"}), expect=400,
+          field="spec.experiment"),
+        S("sweep: spec with a bad field", dict(ok, spec=set_path(tiny("two_cube_sliding"), "grain.edge_spheres", 1)),
+          expect=400, field="spec.grain.edge_spheres"),
+        S("sweep: spec with a field of the wrong type", dict(ok, spec=set_path(tiny("two_cube_sliding"), "grain.size",
+                                                                              "big")),
+          expect=400, field="spec.grain.size"),
+        S("sweep: spec with 1e400", dict(ok, spec=set_path(tiny("two_cube_sliding"), "grain.size", raw("1e400"))),
+          expect=400, field="spec.grain.size", code="out_of_range"),
+        S("sweep: spec with a section of the wrong type", dict(ok, spec=dict(two, grain=5)), expect=400,
+          field="spec.grain", code="wrong_type"),
+        S("sweep: spec with a nested label", dict(ok, spec=dict(two, label=deep(10))), expect=400, field="spec.label"),
+        S("sweep: spec with a bad field that vary sets", {"spec": set_path(tiny("two_cube_sliding"),
+                                                                           "grain.edge_spheres", 1),
+                                                          "vary": {"grain.edge_spheres": [2]}}, expect=201),
+        # vary: an object of dotted keys, each a non-empty list.
+        S("sweep: missing vary", {"spec": two}, expect=400, field="vary"),
+        S("sweep: vary null", dict(ok, vary=None), expect=400, field="vary"),
+        S("sweep: vary empty", dict(ok, vary={}), expect=400, field="vary"),
+        S("sweep: vary a list", dict(ok, vary=[vary]), expect=400, field="vary"),
+        S("sweep: vary a string", dict(ok, vary="loading.rate_number=0.05,0.1"), expect=400, field="vary"),
+        S("sweep: vary a number", dict(ok, vary=1), expect=400, field="vary"),
+        S("sweep: a vary value is a number", dict(ok, vary={"loading.rate_number": 0.05}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: a vary value is a string", dict(ok, vary={"label": "a"}), expect=400, field="vary.label"),
+        S("sweep: a vary value is null", dict(ok, vary={"loading.rate_number": None}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: a vary value is an object", dict(ok, vary={"grain": {"edge_spheres": [2, 3]}}), expect=400,
+          field="vary.grain"),
+        S("sweep: an empty list", dict(ok, vary={"loading.rate_number": []}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: an empty list after a good one", dict(ok, vary={"label": ["a"], "loading.rate_number": []}),
+          expect=400, field="vary.loading.rate_number"),
+        S("sweep: vary the experiment", dict(ok, vary={"experiment": ["two_cube_sliding"]}), expect=400,
+          field="vary.experiment"),
+        # Dotted keys the spec does not have: the error names the key of vary.
+        S("sweep: unknown top-level key", dict(ok, vary={"bogus": [1]}), expect=400, field="vary.bogus",
+          code="unknown_field"),
+        S("sweep: unknown key in a section", dict(ok, vary={"grain.bogus": [1]}), expect=400, field="vary.grain.bogus",
+          code="unknown_field"),
+        S("sweep: key below a number", dict(ok, vary={"grain.edge_spheres.x": [2]}), expect=400,
+          field="vary.grain.edge_spheres.x"),
+        S("sweep: key empty", dict(ok, vary={"": [1]}), expect=400, check=field_starts("vary")),
+        # When the spec refuses a key above the varied one (a section or key vary creates, "bogus" of "bogus.x"),
+        # the error names the varied key, not the base spec (it used to say "spec.bogus", "the base spec: ...").
+        S("sweep: unknown section", dict(ok, vary={"bogus.x": [1]}), expect=400, field="vary.bogus.x",
+          check=field_starts("vary.")),
+        S("sweep: unknown key under a section", dict(ok, vary={"loading.bogus.x": [1]}), expect=400,
+          field="vary.loading.bogus.x", check=field_starts("vary.")),
+        S("sweep: a field of another experiment", dict(ok, vary={"crystal.grains_x": [2]}), expect=400,
+          field="vary.crystal.grains_x", check=field_starts("vary.")),
+        S("sweep: key with an array index", {"spec": crystal, "vary": {"crystal.knockout_regions[0].x": [0]}},
+          expect=400, check=field_starts("vary.")),
+        S("sweep: key with an empty part", dict(ok, vary={"grain..size": [0.01]}), expect=400,
+          check=field_starts("vary.")),
+        S("sweep: key a dot", dict(ok, vary={".": [1]}), expect=400, check=field_starts("vary.")),
+        S("sweep: vary key in capitals", dict(ok, vary={"LOADING.RATE_NUMBER": [0.1]}), expect=400,
+          check=field_starts("vary.")),
+        # A bad value in a list: the key named, nothing created even when earlier points are good.
+        S("sweep: value above the maximum", dict(ok, vary={"loading.rate_number": [0.05, 0.2]}), expect=400,
+          field="vary.loading.rate_number", code="out_of_range"),
+        S("sweep: value of the wrong type", dict(ok, vary={"loading.rate_number": [0.05, "fast"]}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: value a bool", dict(ok, vary={"grain.edge_spheres": [True]}), expect=400,
+          field="vary.grain.edge_spheres"),
+        S("sweep: value a fraction of an integer", dict(ok, vary={"grain.edge_spheres": [2, 2.5]}), expect=400,
+          field="vary.grain.edge_spheres"),
+        S("sweep: value a list", dict(ok, vary={"loading.rate_number": [[0.05]]}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: value an object", dict(ok, vary={"loading.rate_number": [{}]}), expect=400,
+          field="vary.loading.rate_number"),
+        S("sweep: value 1e400", dict(ok, vary={"loading.rate_number": [raw("1e400")]}), expect=400,
+          code="out_of_range", check=field_starts("vary.")),
+        S("sweep: value an unknown choice", dict(ok, vary={"grain.shape": ["sphere"]}), expect=400,
+          field="vary.grain.shape"),
+        S("sweep: value a bad section", dict(ok, vary={"grain": [{"bogus": 1}]}), expect=400, field="vary.grain"),
+        S("sweep: label value a number", dict(ok, vary={"label": [1]}), expect=400, field="vary.label"),
+        S("sweep: label value too long", dict(ok, vary={"label": ["x" * 201]}), expect=400, field="vary.label"),
+        S("sweep: bad value in the last point only", {"spec": two, "label": "atomic-sweep-marker-1",
+                                                      "vary": {"grain.edge_spheres": [2, 3, 41]}},
+          expect=400, field="vary.grain.edge_spheres", check=nothing_made("atomic-sweep-marker-1")),
+        S("sweep: bad value in the second list", {"spec": two, "label": "atomic-sweep-marker-2",
+                                                  "vary": {"label": ["a", "b"], "loading.rate_number": [0.1, -1]}},
+          expect=400, field="vary.loading.rate_number", check=nothing_made("atomic-sweep-marker-2")),
+        # Over the per-job budget: docs/api.md, every point budgeted before any job exists.
+        S("sweep: a point over budget", {"spec": set_path(set_path(tiny("crystal_compression"), "crystal",
+                                                                   {"grains_x": 2, "rows_z": 18, "layers_y": 6}),
+                                                          "loading.rate_number", 1e-8),
+                                         "label": "atomic-sweep-marker-3", "vary": {"crystal.grains_x": [2, 20]}},
+          expect=400, code="over_budget", check=nothing_made("atomic-sweep-marker-3")),
+        # A value of vary that makes a whole section invalid (100 x 400 x 100 grains of N_e = 4, over the 5e7-sphere
+        # limit the spec itself checks) is the varied key's fault: the base alone (2 x 400 x 100) is valid.
+        S("sweep: a point with too many spheres", {"spec": set_path(set_path(set_path(tiny("crystal_compression"),
+                                                                                     "crystal.rows_z", 400),
+                                                                            "crystal.layers_y", 100),
+                                                                   "grain.edge_spheres", 4),
+                                                  "label": "atomic-sweep-marker-4",
+                                                  "vary": {"crystal.grains_x": [2, 100]}},
+          expect=400, field="vary.crystal.grains_x", check=nothing_made("atomic-sweep-marker-4")),
+        # mode.
+        S("sweep: mode unknown", dict(ok, mode="cartesian"), expect=400, field="mode"),
+        S("sweep: mode empty", dict(ok, mode=""), expect=400, field="mode"),
+        S("sweep: mode in capitals", dict(ok, mode="ZIP"), expect=400, field="mode"),
+        S("sweep: mode with a space", dict(ok, mode="zip "), expect=400, field="mode"),
+        S("sweep: mode with a NUL", dict(ok, mode="zip\u0000"), expect=400, field="mode"),
+        S("sweep: mode a number", dict(ok, mode=1), expect=400, field="mode"),
+        S("sweep: mode a list", dict(ok, mode=["zip"]), expect=400, field="mode"),
+        S("sweep: mode null", dict(ok, mode=None), expect=(201, 400), field="mode"),
+        S("sweep: zip of lists of different lengths", {"spec": two, "mode": "zip",
+                                                       "vary": {"label": ["a", "b"], "loading.rate_number": [0.1]}},
+          expect=400, check=field_starts("vary.")),
+        # Too many jobs: at most 1000 (max_jobs_per_sweep).
+        S("sweep: product of 1,331 jobs", dict(ok, vary={"label": [str(i) for i in range(11)],
+                                                         "loading.rate_number": [0.1 - 0.001 * i for i in range(11)],
+                                                         "output.curve_points": list(range(1, 12))}),
+          expect=400, field="vary", code="out_of_range"),
+        S("sweep: product of 1,001 jobs", dict(ok, vary={"label": [str(i) for i in range(7)],
+                                                         "output.curve_points": list(range(1, 144))}),
+          expect=400, field="vary", code="out_of_range"),
+        S("sweep: zip of 1,001 jobs", dict(ok, mode="zip", vary={"output.curve_points": list(range(1, 1002))}),
+          expect=400, field="vary", code="out_of_range"),
+        S("sweep: product of 10^60 jobs", dict(ok, vary={f"k{i}": list(range(100)) for i in range(30)}),
+          expect=400, field="vary"),
+        S("sweep: one list of 150,000 values", dict(ok, vary={"output.curve_points": [1] * 150000}), expect=400,
+          field="vary"),
+        # label.
+        S("sweep: label 201 characters", dict(ok, label="x" * 201), expect=400, field="label"),
+        S("sweep: label 201 two-byte characters", dict(ok, label="\u00e9" * 201), expect=400, field="label"),
+        S("sweep: label 900 KB", dict(ok, label="x" * 900000), expect=400, field="label"),
+        S("sweep: label a number", dict(ok, label=5), expect=400, field="label"),
+        S("sweep: label a list", dict(ok, label=["a"]), expect=400, field="label"),
+        S("sweep: label null", dict(ok, label=None), expect=(201, 400), field="label"),
+        # Nesting.
+        S("sweep: nested 70 deep", b'{"spec": ' + b"[" * 70 + b"]" * 70 + b"}", expect=400, code="too_deep"),
+        S("sweep: nested 100000 deep", b"[" * 100000 + b"]" * 100000, expect=400, code="too_deep"),
+        S("sweep: a list value nested 70 deep", dict(ok, vary={"label": [deep(70)]}), expect=400, code="too_deep",
+          check=field_starts("vary.")),
+        S("sweep: a list value nested 10 deep", dict(ok, vary={"label": [deep(10)]}), expect=400, field="vary.label"),
+        S("sweep: spec nested 70 deep", dict(ok, spec={"grain": {"size": deep(70)}}), expect=400, code="too_deep",
+          check=field_starts("spec.")),
+        S("sweep: vary as deep objects", dict(ok, vary={"a": {"b": {"c": {"d": [1]}}}}), expect=400, field="vary.a"),
+        # Valid small sweeps (their jobs are cancelled at once).
+        S("sweep: product of 2 two-cube jobs", ok, expect=201,
+          check=json_holds(id=lambda v: isinstance(v, int), jobs=lambda v: len(v) == 2)),
+        S("sweep: zip of 2 jobs over 2 keys, labelled", {"spec": two, "mode": "zip", "label": "zip <&> sweep",
+                                                        "vary": {"loading.rate_number": [0.05, 0.1],
+                                                                 "output.curve_points": [3, 4]}},
+          expect=201, check=json_holds(jobs=lambda v: len(v) == 2)),
+        S("sweep: product 2 x 2 of crystal jobs", {"spec": crystal, "mode": "product",
+                                                   "vary": {"crystal.grains_x": [1, 2], "label": ["a", "b"]}},
+          expect=201, check=json_holds(jobs=lambda v: len(v) == 4)),
+        S("sweep: a whole section varied", {"spec": two, "vary": {"grain": [{"edge_spheres": 2}, None]}}, expect=201),
+        S("sweep: label of 200 two-byte characters", dict(ok, label="\u00e9" * 200), expect=201),
+        S("sweep: one job", dict(ok, vary={"label": ["only"]}), expect=201,
+          check=json_holds(jobs=lambda v: len(v) == 1)),
+    ]
+    # POST /v1/sweeps?priority=: checked like POST /v1/jobs (the body is valid).
+    for v in ["high", "%FF", "", "-101", "101", "1.5", "99999999999999999999", "+1"]:
+        c.append(S(f"sweep: ?priority={v}", ok, query=f"?priority={v}", expect=400, field="priority"))
+    c.append(S("sweep: ?priority=-100", ok, query="?priority=-100", expect=201))
+    c.append(S("sweep: unknown parameter", ok, query="?dry_run=true", expect=400, field="dry_run",
+               code="unknown_parameter"))
+    c.append(S("sweep: unknown parameter and a bad body", b"{{{", query="?junk=%FF", expect=400, field="junk"))
+    for case in c:
+        assert len(case.body) < MAX_BODY, (case.name, len(case.body))
+    return c
 
 
 def set_path(doc, dotted, value):
@@ -532,15 +852,17 @@ class BadInputTest(unittest.TestCase):
         return status, headers, body, interim
 
     def cancel_created(self, case, status, body):
-        """A job a case created (an accepted spec) is cancelled at once: the suite runs no simulation."""
-        if status not in (200, 201) or case.method != "POST" or not case.path.split("?")[0] == "/v1/jobs":
+        """A job or sweep a case created (an accepted spec) is cancelled at once: the suite runs no simulation."""
+        route = case.path.split("?")[0]
+        if status not in (200, 201) or case.method != "POST" or route not in ("/v1/jobs", "/v1/sweeps"):
             return
         try:
             answer = json.loads(body)
         except ValueError:
             return
         if isinstance(answer, dict) and "id" in answer and not answer.get("reused"):
-            self.http("POST", f"/v1/jobs/{answer['id']}/cancel", b"", {"Content-Length": "0"})
+            what = "jobs" if route == "/v1/jobs" else "sweeps"
+            self.http("POST", f"/v1/{what}/{answer['id']}/cancel", b"", {"Content-Length": "0"})
 
     def judge(self, case, status, headers, body, interim):
         short = body[:300]
@@ -598,6 +920,318 @@ class BadInputTest(unittest.TestCase):
         status, _, body = self.http("GET", f"/v1/jobs/{ids[1]}/snapshots")
         snapshots = json.loads(body)["snapshots"] if status == 200 else []
         return ids[0], ids[1], len(snapshots)
+
+    def wait_finished(self, ids, deadline):
+        for job in ids:
+            while True:
+                status, _, body = self.http("GET", f"/v1/jobs/{job}")
+                state = json.loads(body)["status"] if status == 200 else None
+                if state in ("succeeded", "failed", "cancelled") or time.time() > deadline:
+                    break
+                time.sleep(0.02)
+            self.assertEqual(state, "succeeded", f"fixture job {job}: {body[:300]!r}")
+
+    def submit_sweep(self, doc, query=""):
+        status, _, body = self.http("POST", "/v1/sweeps" + query, json.dumps(doc).encode(),
+                                    {"Content-Type": "application/json"})
+        self.assertEqual(status, 201, body[:300])
+        answer = json.loads(body)
+        return answer["id"], answer["jobs"]
+
+    def sweep_fixtures(self, crystal):
+        """What the sweep, picture and export cases need besides the two finished jobs:
+        - `sweep`: a finished sweep of two tiny two-cube jobs whose labels hold < & " ';
+        - `nasty`: a finished crystal sweep whose labels hold control characters and U+FFFF (the SVGs must parse);
+        - `layers`: how many {111} layers snapshot 0 of the crystal job has (its last valid ?slice= + 1);
+        - `blocker`: a long job running with priority 100 (cancelled by the first cases), behind which
+          `queued` (a job) and `queued_sweep` (two jobs) wait with priority -100: the single worker is busy, so
+          they are queued for sure until the cases cancel them."""
+        two, crystal_spec = tiny("two_cube_sliding"), tiny("crystal_compression")
+        fx = {}
+        fx["sweep"], fx["sweep_jobs"] = self.submit_sweep({"spec": two, "label": "sweep <&> \"q\" 'a'",
+                                                           "vary": {"loading.rate_number": [0.05, 0.1]}})
+        # Its first job's label holds < & ]]> and control characters (XML 1.0 forbids those: dropped), its second's
+        # U+FFFF, which XML 1.0 forbids too (it used to be kept: the second job's curve.svg, snapshot SVG and archive,
+        # and the sweep's curves.svg, did not parse).
+        fx["nasty"], fx["nasty_jobs"] = self.submit_sweep({"spec": crystal_spec, "label": "nasty <b>&amp;\u0001\u001b",
+                                                           "vary": {"label": ["a<b&c\u0001\u001f]]>", "x\uffffy"]}})
+        self.wait_finished(fx["sweep_jobs"] + fx["nasty_jobs"], time.time() + 60)
+        layers = 0
+        while layers < 50 and self.http("GET", f"/v1/jobs/{crystal}/snapshots/0.svg?slice={layers}")[0] == 200:
+            layers += 1
+        fx["layers"] = layers
+        # The blocker: two cubes at a rate 100 times slower than the tiny spec's (about 10 s), started for sure
+        # before the queued job and sweep are submitted.
+        blocker = set_path(tiny("two_cube_sliding"), "loading.rate_number", 1e-6)
+        status, _, body = self.http("POST", "/v1/jobs?priority=100", json.dumps(blocker).encode(),
+                                    {"Content-Type": "application/json"})
+        self.assertEqual(status, 201, body[:300])
+        fx["blocker"] = json.loads(body)["id"]
+        deadline = time.time() + 20
+        while json.loads(self.http("GET", f"/v1/jobs/{fx['blocker']}")[2])["status"] == "queued":
+            self.assertLess(time.time(), deadline, "the blocker job never started")
+            time.sleep(0.005)
+        status, _, body = self.http("POST", "/v1/jobs?priority=-100", json.dumps(two).encode(),
+                                    {"Content-Type": "application/json"})
+        self.assertEqual(status, 201, body[:300])
+        fx["queued"] = json.loads(body)["id"]
+        fx["queued_sweep"], fx["queued_sweep_jobs"] = self.submit_sweep(
+            {"spec": two, "vary": {"label": ["q1", "q2"]}}, "?priority=-100")
+        status, _, body = self.http("GET", f"/v1/jobs/{fx['blocker']}")
+        self.assertEqual(json.loads(body)["status"], "running", "the blocker finished too soon: the queued cases "
+                                                                 "would not be deterministic")
+        return fx
+
+    def queued_cases(self, fx):
+        """Run first, while the blocker runs: a queued job and sweep, then the same cancelled before they started.
+        docs/api.md: curve.svg is 409 while queued (and a job cancelled before it started has no rows either)."""
+        x, q, b = fx["queued"], fx["queued_sweep"], fx["blocker"]
+        C = Case
+        cancel = lambda name, path, expect, **kw: Case(name, "POST", path, b"", {"Content-Length": "0"}, expect=expect,
+                                                       **kw)
+        return [
+            C("queued job: curve.svg", "GET", f"/v1/jobs/{x}/curve.svg", expect=409, code="wrong_state"),
+            C("queued job: curve", "GET", f"/v1/jobs/{x}/curve", expect=409, code="wrong_state"),
+            C("queued job: curve.svg with a junk parameter", "GET", f"/v1/jobs/{x}/curve.svg?format=png", expect=400,
+              field="format", code="unknown_parameter"),
+            C("queued job: archive", "GET", f"/v1/jobs/{x}/archive", expect=200,
+              check=tar_holds(x, ["spec.json"], ["summary.json", "curve.csv", "curve.svg"])),
+            C("queued job: snapshots/0.svg", "GET", f"/v1/jobs/{x}/snapshots/0.svg", expect=404, code="not_found"),
+            C("queued job: snapshots/0.svg?field=bogus", "GET", f"/v1/jobs/{x}/snapshots/0.svg?field=bogus",
+              expect=400, field="field"),
+            C("queued job: snapshots/0?format=vtk", "GET", f"/v1/jobs/{x}/snapshots/0?format=vtk", expect=404,
+              code="not_found"),
+            C("queued sweep: GET", "GET", f"/v1/sweeps/{q}", expect=200,
+              check=json_holds(id=q, counts={"queued": 2}, jobs=lambda v: [j["status"] for j in v] == ["queued"] * 2)),
+            C("queued sweep: curves.svg", "GET", f"/v1/sweeps/{q}/curves.svg", expect=200, check=svg_parses),
+            C("queued sweep: curve.svg of a job", "GET", f"/v1/jobs/{fx['queued_sweep_jobs'][0]}/curve.svg", expect=409,
+              code="wrong_state"),
+            cancel("queued sweep: cancel", f"/v1/sweeps/{q}/cancel", 200,
+                   check=json_holds(id=q, cancelled=2, cancel_requested=0)),
+            cancel("queued sweep: cancel again", f"/v1/sweeps/{q}/cancel", 200,
+                   check=json_holds(cancelled=0, cancel_requested=0)),
+            C("cancelled sweep: GET", "GET", f"/v1/sweeps/{q}", expect=200, check=json_holds(counts={"cancelled": 2})),
+            C("cancelled sweep: curves.svg", "GET", f"/v1/sweeps/{q}/curves.svg", expect=200, check=svg_parses),
+            cancel("queued job: cancel", f"/v1/jobs/{x}/cancel", 200, check=json_holds(status="cancelled")),
+            C("job cancelled before it started: curve.svg", "GET", f"/v1/jobs/{x}/curve.svg", expect=409,
+              code="wrong_state"),
+            C("job cancelled before it started: archive", "GET", f"/v1/jobs/{x}/archive", expect=200,
+              check=tar_holds(x, ["spec.json"], ["curve.csv", "curve.svg"])),
+            # The running blocker: its curve so far (none yet is a 409), its archive; then cancelled.
+            C("running job: curve.svg", "GET", f"/v1/jobs/{b}/curve.svg", expect=(200, 409), check=svg_parses),
+            C("running job: archive", "GET", f"/v1/jobs/{b}/archive", expect=200, check=tar_holds(b, ["spec.json"])),
+            cancel("running job: cancel", f"/v1/jobs/{b}/cancel", 202),
+        ]
+
+    def new_route_cases(self, done, crystal, n_snapshots, fx):
+        """The sweep, picture, export and web routes: path junk, query junk, method junk and good requests."""
+        d, c, s, n = done, crystal, fx["sweep"], fx["nasty"]
+        missing = 999999999
+        layers = fx["layers"]
+        last = n_snapshots - 1
+        cases = []
+        short = lambda path: path if len(path) <= 90 else f"{path[:60]}... ({len(path)} characters)"
+        get = lambda path, expect=None, field=None, code=None, **kw: Case(f"GET {short(path)}", "GET", path,
+                                                                         expect=expect, field=field, code=code, **kw)
+        post = lambda path, expect=None, field=None, code=None, **kw: Case(f"POST {short(path)}", "POST", path, b"",
+                                                                          {"Content-Length": "0"}, expect=expect,
+                                                                          field=field, code=code, **kw)
+        svg = lambda path, **kw: get(path, 200, check=svg_parses, **kw)
+        junk_ids = ["9" * 25, "99999999999999999999", "9223372036854775808", "0", str(missing), "-1", "%00", "%2D1",
+                    "abc", "1.5", "+1", "%FF", "%20", "9" * 5000]
+
+        # -- path junk: ids that are no job, no sweep, no snapshot -------------------------------------------------
+        for p in junk_ids:
+            for tail in ["curve.svg", "snapshots/0.svg", "snapshots/0?format=dump", "archive"]:
+                cases.append(get(f"/v1/jobs/{p}/{tail}", 404, code="not_found"))
+            cases.append(get(f"/v1/sweeps/{p}", 404, code="not_found"))
+            cases.append(get(f"/v1/sweeps/{p}/curves.svg", 404, code="not_found"))
+            cases.append(post(f"/v1/sweeps/{p}/cancel", 404, code="not_found"))
+        for k in [str(n_snapshots), "9" * 25, "99999999999999999999", "2147483648", "4294967296", "-1", "%00", "abc",
+                  "1.0", "%2D1", "9" * 5000]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}.svg", 404, code="not_found"))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=vtk", 404, code="not_found"))
+        cases.append(get(f"/v1/jobs/{d}/snapshots/0.svg", 404, code="not_found"))  # two cubes: no snapshot
+        cases.append(get(f"/v1/jobs/{d}/snapshots/0?format=dump", 404, code="not_found"))
+        for p in [f"/v1/jobs/{d}/curve.SVG", f"/v1/jobs/{d}/curve.svg/", f"/v1/jobs/{d}/curve.svg.svg",
+                  f"/v1/jobs/{d}/curvexsvg", f"/v1/jobs/{d}/curve.png", f"/v1/jobs/{c}/snapshots/0.SVG",
+                  f"/v1/jobs/{c}/snapshots/.svg", f"/v1/jobs/{c}/snapshots/0.svg.svg", f"/v1/jobs/{c}/snapshots/0.png",
+                  f"/v1/jobs/{c}/snapshots/0/", f"/v1/jobs/{c}/archive/", f"/v1/jobs/{c}/archive.tar",
+                  f"/v1/jobs/{c}/archives", f"/v1/sweeps/{s}/", f"/v1/sweeps/{s}/curves", f"/v1/sweeps/{s}/curve.svg",
+                  f"/v1/sweeps/{s}/jobs", f"/v1/sweeps/{s}/curves.svg/x", "/v1/sweeps/", "/v1/sweep",
+                  "/web/", "/web/nothing.js", "/web/app.js/", "/web/APP.JS", "/web/app.js%00", "/web/app.js.map",
+                  "/web/index.html", "/index.html", "/web/" + "x" * 5000, "/v1/examples/two_cube",
+                  "/v1/openapi.yaml", "/v1/openapi.json/"]:
+            cases.append(get(p, 404, code="not_found"))
+        cases.append(get("/v1/sweeps/" + "9" * 9000, 414))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/" + "9" * 9000 + ".svg", 414))
+
+        def no_file_from_disk(test, status, headers, body, interim):
+            test.assertNotIn(b"root:", body, "a file from outside the embedded ones was served")
+            test.assertNotIn(b"#include", body, "a source file was served")
+        for p in ["/web/../../etc/passwd", "/web/%2e%2e/%2e%2e/etc/passwd", "/web/..%2F..%2Fetc%2Fpasswd",
+                  "/web/../server/web_routes.cpp", "/web//app.js", "/web/./app.js", "//web/app.js"]:
+            cases.append(get(p, check=no_file_from_disk))
+
+        # -- GET /v1/jobs/{id}/curve.svg ---------------------------------------------------------------------------
+        for job in [d, c] + fx["sweep_jobs"] + fx["nasty_jobs"]:  # the second nasty one: U+FFFF
+            cases.append(svg(f"/v1/jobs/{job}/curve.svg"))
+        for q, field in [("format=csv", "format"), ("junk=1", "junk"), ("x", "x"), ("field=severity", "field"),
+                         ("slice=0", "slice")]:
+            cases.append(get(f"/v1/jobs/{d}/curve.svg?{q}", 400, field=field, code="unknown_parameter"))
+        cases.append(get(f"/v1/jobs/{d}/curve.svg?%FF=1", 400, code="unknown_parameter"))
+
+        # -- GET /v1/jobs/{id}/snapshots/{k}.svg?field=&slice= -----------------------------------------------------
+        cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg"))
+        if last > 0:
+            cases.append(svg(f"/v1/jobs/{c}/snapshots/{last}.svg"))
+        for f in ["severity", "gamma_max", "equivalent_strain", "displacement"]:
+            cases.append(svg(f"/v1/jobs/{c}/snapshots/{last}.svg?field={f}"))
+            cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg?field={f}&slice={layers - 1}"))
+        for k in range(layers):
+            cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg?slice={k}"))
+        for job in fx["nasty_jobs"]:  # the second: U+FFFF in its label
+            cases.append(svg(f"/v1/jobs/{job}/snapshots/0.svg?field=severity"))
+        for v in ["bogus", "%FF", "", "SEVERITY", "severity%00", "severity,gamma_max", "severity%20", "%20severity",
+                  "gamma-max", "0", "displacement%FF", "x" * 5000]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field={v}", 400, field="field"))
+        # A slice: an integer 0..2^20 (else a 400 from the parameter check), and a layer of the crystal (else a 400
+        # from the picture: docs/api.md, "a layer outside the crystal is a 400 naming slice").
+        for v in ["-1", "abc", "", "99999999999999999999", "9223372036854775808", "1048577", "1.5", "+1", "0x1",
+                  "%00", "1e3", "%FF", "--1", "%201", "1%20", "%EF%BC%91", "-2147483648"]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice={v}", 400, field="slice"))
+        for v in [layers, layers + 1, 1000, 1 << 20]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice={v}", 400, field="slice"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field=severity&slice={layers}", 400, field="slice"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field=bogus&slice={layers - 1}", 400, field="field"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice=-0", (200, 400), field="slice", check=svg_parses))
+        for q in ["slice=0&slice=0", "field=severity&field=severity", "slice=0&slice=99"]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?{q}", (200, 400), check=svg_parses))
+        for q, field in [("format=json", "format"), ("junk=%FF", "junk"), ("field=severity&layer=0", "layer"),
+                         ("Field=severity", "Field"), ("slices=0", "slices")]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?{q}", 400, field=field, code="unknown_parameter"))
+
+        # -- GET /v1/jobs/{id}/snapshots/{k}?format= ---------------------------------------------------------------
+        def starts(prefix):
+            def check(test, status, headers, body, interim):
+                test.assertTrue(body.startswith(prefix), f"does not start with {prefix!r}: {body[:80]!r}")
+            return check
+        for k in sorted({0, last}):
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=json", 200,
+                             check=both(content_type("application/json"), lambda t, st, h, b, i: json.loads(b))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dump", 200,
+                             check=both(content_type("text/plain"), starts(b"ITEM: TIMESTEP"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=vtk", 200,
+                             check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=vtk_interfaces", 200,
+                             check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+        for v in ["xml", "%FF", "", "JSON", "json%00", "dump,vtk", "vtk%20", "csv", "svg", "vtk_grains", "x" * 5000]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0?format={v}", 400, field="format"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0?format=json&format=dump", (200, 400)))
+        for q, field in [("field=severity", "field"), ("slice=0", "slice"), ("format=vtk&junk=1", "junk")]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0?{q}", 400, field=field, code="unknown_parameter"))
+
+        # -- GET /v1/jobs/{id}/archive -----------------------------------------------------------------------------
+        snapshot_files = [f"snapshots/snapshot_{k}{ext}" for k in range(n_snapshots)
+                          for ext in (".json", ".dump", "_grains.vtk", "_interfaces.vtk")]
+        cases.append(get(f"/v1/jobs/{d}/archive", 200,
+                         check=tar_holds(d, ["spec.json", "summary.json", "curve.csv", "curve.svg"],
+                                         ["snapshots/snapshot_0.json"])))
+        cases.append(get(f"/v1/jobs/{c}/archive", 200,
+                         check=tar_holds(c, ["spec.json", "summary.json", "curve.csv", "curve.svg"] + snapshot_files)))
+        for job in fx["nasty_jobs"]:  # the second: U+FFFF in its curve.svg
+            cases.append(get(f"/v1/jobs/{job}/archive", 200, check=tar_holds(job, ["spec.json", "curve.svg"])))
+        for q, field in [("format=zip", "format"), ("junk", "junk"), ("gzip=true", "gzip")]:
+            cases.append(get(f"/v1/jobs/{d}/archive?{q}", 400, field=field, code="unknown_parameter"))
+
+        # -- GET /v1/sweeps ----------------------------------------------------------------------------------------
+        def empty_sweeps(value):
+            def check(test, status, headers, body, interim):
+                answer = json.loads(body)
+                test.assertEqual(answer.get("sweeps"), [], f"offset {value} listed sweeps: it wrapped around")
+                test.assertEqual(answer.get("offset"), value, "the offset echoed is not the one asked for")
+            return check
+        cases.append(get("/v1/sweeps", 200, check=json_holds(sweeps=lambda v: s in [x["id"] for x in v], limit=50,
+                                                             offset=0)))
+        cases.append(get("/v1/sweeps?offset=0", 200, check=json_holds(sweeps=lambda v: len(v) >= 2)))
+        for v in ["%FF", "-1", "0", "1001", "99999999999999999999", "9223372036854775808", "1e3", "", "%20", "5abc",
+                  "0x10", "+5", "1.0", "--1", "%00", "%EF%BC%95"]:
+            cases.append(get(f"/v1/sweeps?limit={v}", 400, field="limit"))
+        cases.append(get("/v1/sweeps?limit=1", 200, check=json_holds(sweeps=lambda v: len(v) == 1, limit=1)))
+        cases.append(get("/v1/sweeps?limit=1000", 200))
+        for v in ["-1", "-5", "99999999999999999999", "18446744073709551616", "1099511627777", "%FF", "abc", "",
+                  "1e10", "-2147483648"]:
+            cases.append(get(f"/v1/sweeps?offset={v}", 400, field="offset"))
+        for v in [2 ** 31, 2 ** 32 + 1, 2 ** 40]:
+            cases.append(get(f"/v1/sweeps?offset={v}", 200, check=empty_sweeps(v)))
+        cases.append(get("/v1/sweeps?limit=1000&offset=1000", 200, check=empty_sweeps(1000)))
+        for v in ["%FF", "nobody", "%00", "a%20b", ""]:
+            cases.append(get(f"/v1/sweeps?owner={v}", 200))
+        cases.append(get("/v1/sweeps?owner=nobody&limit=5", 200, check=json_holds(sweeps=[])))
+        cases.append(get("/v1/sweeps?owner=" + "x" * 10000, 414))
+        for q, field in [("status=succeeded", "status"), ("junk=%FF", "junk"), ("mode=zip", "mode"),
+                         ("limit=5&label=x", "label")]:
+            cases.append(get(f"/v1/sweeps?{q}", 400, field=field, code="unknown_parameter"))
+        for q in ["limit=5&limit=6", "%zz=1", "&&&", "limit=1#frag"]:
+            cases.append(get(f"/v1/sweeps?{q}"))
+
+        # -- GET /v1/sweeps/{id}, POST /v1/sweeps/{id}/cancel, GET /v1/sweeps/{id}/curves.svg -----------------------
+        cases.append(get(f"/v1/sweeps/{s}", 200, check=json_holds(
+            id=s, mode="product", counts={"succeeded": 2}, vary={"loading.rate_number": [0.05, 0.1]},
+            spec=lambda v: v.get("experiment") == "two_cube_sliding",
+            jobs=lambda v: [j["values"] for j in v] == [{"loading.rate_number": 0.05}, {"loading.rate_number": 0.1}])))
+        cases.append(get(f"/v1/sweeps/{n}", 200, check=json_holds(counts={"succeeded": 2})))
+        cases.append(svg(f"/v1/sweeps/{s}/curves.svg"))
+        cases.append(svg(f"/v1/sweeps/{n}/curves.svg"))  # U+FFFF in a legend
+        for q, field in [("limit=1", "limit"), ("format=csv", "format"), ("junk", "junk")]:
+            cases.append(get(f"/v1/sweeps/{s}?{q}", 400, field=field, code="unknown_parameter"))
+        for q, field in [("field=severity", "field"), ("format=png", "format"), ("junk=%00", "junk")]:
+            cases.append(get(f"/v1/sweeps/{s}/curves.svg?{q}", 400, field=field, code="unknown_parameter"))
+        cases.append(post(f"/v1/sweeps/{s}/cancel?force=true", 400, field="force", code="unknown_parameter"))
+        cases.append(post(f"/v1/sweeps/{s}/cancel", 200, check=json_holds(id=s, cancelled=0, cancel_requested=0)))
+        cases.append(Case("POST sweep cancel with a junk body", "POST", f"/v1/sweeps/{s}/cancel", b"\xff\xfe[[[",
+                          {"Content-Type": "application/json"}, expect=200, check=json_holds(cancelled=0)))
+
+        # -- GET /v1/openapi.json, /v1/examples, /, /web/app.js, /web/style.css ------------------------------------
+        def documents_new_routes(test, status, headers, body, interim):
+            paths = json.loads(body).get("paths", {})
+            for route, method in [("/v1/sweeps", "post"), ("/v1/sweeps", "get"), ("/v1/sweeps/{id}", "get"),
+                                  ("/v1/sweeps/{id}/cancel", "post"), ("/v1/sweeps/{id}/curves.svg", "get"),
+                                  ("/v1/jobs/{id}/curve.svg", "get"), ("/v1/jobs/{id}/snapshots/{k}.svg", "get"),
+                                  ("/v1/jobs/{id}/snapshots/{k}", "get"), ("/v1/jobs/{id}/archive", "get")]:
+                test.assertIn(method, paths.get(route, {}), f"{method.upper()} {route} is not in the OpenAPI document")
+
+        def examples_listed(test, status, headers, body, interim):
+            examples = json.loads(body)["examples"]
+            test.assertTrue(examples, "no example")
+            for e in examples:
+                test.assertIsInstance(e.get("name"), str)
+                test.assertIsInstance(e.get("spec"), dict)
+        cases.append(get("/v1/openapi.json", 200, check=both(content_type("application/json"), documents_new_routes)))
+        cases.append(get("/v1/examples", 200, check=both(content_type("application/json"), examples_listed)))
+        cases.append(Case("GET / (the web page)", "GET", "/", expect=200, check=content_type("text/html")))
+        cases.append(get("/web/app.js", 200, check=content_type("text/javascript", "application/javascript")))
+        cases.append(get("/web/style.css", 200, check=content_type("text/css")))
+        for p in ["/v1/openapi.json", "/v1/examples", "/", "/web/app.js", "/web/style.css"]:
+            for q, field in [("junk=1", "junk"), ("v=2", "v"), ("%FF", None)]:
+                cases.append(get(f"{p}?{q}", 400, field=field, code="unknown_parameter"))
+
+        # -- method junk -------------------------------------------------------------------------------------------
+        routes = ["/v1/sweeps", f"/v1/sweeps/{s}", f"/v1/sweeps/{s}/cancel", f"/v1/sweeps/{s}/curves.svg",
+                  f"/v1/jobs/{d}/curve.svg", f"/v1/jobs/{c}/snapshots/0.svg", f"/v1/jobs/{d}/archive",
+                  "/v1/openapi.json", "/v1/examples", "/", "/web/app.js", "/web/style.css"]
+        for route in routes:
+            for method in ("PUT", "DELETE", "PATCH"):
+                cases.append(Case(f"{method} {route}", method, route, expect=tuple(range(400, 500))))
+        for route in [f"/v1/sweeps/{s}", f"/v1/sweeps/{s}/curves.svg", f"/v1/jobs/{d}/curve.svg",
+                      f"/v1/jobs/{c}/snapshots/0.svg", f"/v1/jobs/{d}/archive", "/v1/openapi.json", "/v1/examples", "/",
+                      "/web/app.js", "/web/style.css"]:
+            cases.append(Case(f"POST {route}", "POST", route, b"", expect=tuple(range(400, 500))))
+        cases.append(Case(f"GET /v1/sweeps/{s}/cancel", "GET", f"/v1/sweeps/{s}/cancel", expect=tuple(range(400, 500))))
+        for route in [f"/v1/jobs/{d}/curve.svg", f"/v1/jobs/{c}/archive", f"/v1/sweeps/{s}/curves.svg", "/",
+                      f"/v1/jobs/{c}/snapshots/0.svg?slice=abc"]:
+            cases.append(Case(f"HEAD {route}", "HEAD", route))
+        return cases
 
     def route_cases(self, done, crystal, n_snapshots):
         d, c = done, crystal
@@ -839,12 +1473,15 @@ class BadInputTest(unittest.TestCase):
         counts = {"2xx": 0, "4xx": 0, "5xx": 0, "other": 0, "no answer": 0}
         crashes = []
         done, crystal, n_snapshots = self.fixtures()
+        fx = self.sweep_fixtures(crystal)
         status, _, body = self.http("GET", "/v1/experiments")
         self.assertEqual(status, 200, body[:300])
         experiments = json.loads(body)["experiments"]
         self.assertTrue(experiments)
-        cases = (field_cases(experiments) + structure_cases(experiments) + document_cases()
-                 + self.route_cases(done, crystal, n_snapshots) + self.raw_cases(done))
+        # The queued cases first: they need the blocker still running.
+        cases = (self.queued_cases(fx) + field_cases(experiments) + structure_cases(experiments) + document_cases()
+                 + self.route_cases(done, crystal, n_snapshots) + sweep_cases()
+                 + self.new_route_cases(done, crystal, n_snapshots, fx) + self.raw_cases(done))
         names = [c.name for c in cases]
         self.assertEqual(len(names), len(set(names)), [n for n in names if names.count(n) > 1][:5])
 
