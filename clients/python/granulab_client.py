@@ -190,8 +190,8 @@ class Client:
             if len(done) == len(set(int(i) for i in job_ids)):
                 return done
             if deadline is not None and time.monotonic() >= deadline:
-                raise TimeoutError(f"{len(job_ids) - len(done)} jobs still unfinished after {timeout} s")
-            time.sleep(poll)
+                raise TimeoutError(f"{len(set(int(i) for i in job_ids)) - len(done)} jobs still unfinished after {timeout} s")
+            time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
 
     def curve(self, job_id):
         """The curve as columns: {"columns": [names], name: [values], ...}; while the job runs, the rows

@@ -11,8 +11,11 @@ import signal
 import socket
 import subprocess
 import sys
+import tarfile
 import tempfile
+import threading
 import time
+import types
 import unittest
 import urllib.request
 
@@ -26,6 +29,14 @@ DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 TINY = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
         "loading": {"rate_number": 1e-3}, "output": {"curve_points": 10}}
 CSV_HEADER = "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force"
+SLOW = dict(TINY, loading={"rate_number": 1e-8}, output={"curve_points": 1})  # minutes: holds the one worker
+# A crystal of 8 grains of 14 spheres: confinement and 1 % of strain in about half a second; snapshots at 0 and 1 %.
+CRYSTAL = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
+           "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 2},
+           "loading": {"max_strain": 0.01, "rate_number": 1e-3}, "output": {"curve_points": 10}}
+CRYSTAL_COLUMNS = ["strain", "stress_top", "stress_bottom", "deviator", "lateral_strain_x", "lateral_strain_y",
+                   "lateral_stress", "kinetic_elastic_ratio", "contacts", "sliding_contacts"]
+TERMINAL = ("succeeded", "failed", "cancelled")
 
 
 def free_port():
@@ -41,40 +52,61 @@ class PythonClientTest(unittest.TestCase):
         self.tmp = tempfile.mkdtemp(prefix="granulab_pyclient_")
         self.log = open(os.path.join(self.tmp, "daemon.log"), "w+")
         self.port = free_port()
-        env = dict(os.environ, OMP_WAIT_POLICY="passive")
-        self.proc = subprocess.Popen(
-            [DAEMON, "--port", str(self.port), "--db", os.path.join(self.tmp, "test.db"), "--workers", "1"],
-            stdout=self.log, stderr=subprocess.STDOUT, env=env)
+        self.extra = []  # more daemons a test started: (process, log file)
+        self.proc = self._spawn(self.port, os.path.join(self.tmp, "test.db"), log=self.log)
         self.client = Client(f"http://127.0.0.1:{self.port}")
+        self._await_health(self.proc, self.port, self.log)
+
+    def _spawn(self, port, db, *extra_args, log=None):
+        """Starts a granulabd on `port` with its own database; a second daemon logs to its own file."""
+        if log is None:
+            log = open(os.path.join(self.tmp, f"daemon_{port}.log"), "w+")
+        env = dict(os.environ, OMP_WAIT_POLICY="passive")
+        proc = subprocess.Popen(
+            [DAEMON, "--port", str(port), "--db", db, "--workers", "1", *extra_args],
+            stdout=log, stderr=subprocess.STDOUT, env=env)
+        if log is not self.log:
+            self.extra.append((proc, log))
+        return proc
+
+    def _await_health(self, proc, port, log):
         deadline = time.monotonic() + 20
         while True:
-            if self.proc.poll() is not None:
-                self.fail(f"granulabd exited with {self.proc.returncode}:\n{self._log()}")
+            if proc.poll() is not None:
+                self.fail(f"granulabd exited with {proc.returncode}:\n{self._log(log)}")
             try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{self.port}/v1/health", timeout=2) as r:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/v1/health", timeout=2) as r:
                     if r.status == 200:
                         break
             except OSError:
                 pass
             if time.monotonic() > deadline:
-                self.fail(f"granulabd did not answer /v1/health within 20 s:\n{self._log()}")
+                self.fail(f"granulabd did not answer /v1/health within 20 s:\n{self._log(log)}")
             time.sleep(0.1)
 
-    def tearDown(self):
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGTERM)
+    @staticmethod
+    def _stop(proc):
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGTERM)
             try:
-                self.proc.wait(timeout=15)
+                proc.wait(timeout=15)
             except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+                proc.kill()
+                proc.wait()
+
+    def tearDown(self):
+        self._stop(self.proc)
+        for proc, log in self.extra:
+            self._stop(proc)
+            log.close()
         self.log.close()
         shutil.rmtree(self.tmp, ignore_errors=True)
 
-    def _log(self):
-        self.log.flush()
-        self.log.seek(0)
-        return self.log.read()[-4000:]
+    def _log(self, log=None):
+        log = log or self.log
+        log.flush()
+        log.seek(0)
+        return log.read()[-4000:]
 
     def test_health(self):
         h = self.client.health()
@@ -179,6 +211,355 @@ class PythonClientTest(unittest.TestCase):
             with self.assertRaises(GranulabError) as ctx:
                 call(987654)
             self.assertEqual(ctx.exception.status, 404, call.__name__)
+
+    # -- dry runs ----------------------------------------------------------------------------------
+    def test_dry_run_answers_the_cost_and_queues_nothing(self):
+        before = self.client.list()
+        for spec in (TINY, CRYSTAL):
+            cost = self.client.dry_run(spec)
+            self.assertIs(cost["dry_run"], True)
+            self.assertEqual(cost["experiment"], spec["experiment"])
+            for key in ("spheres", "grains", "steps", "memory_bytes", "expected_seconds"):
+                self.assertGreater(cost[key], 0, key)
+            self.assertNotIn("over_budget", cost)  # the default budget holds these
+        cost = self.client.dry_run(CRYSTAL)
+        self.assertEqual((cost["grains"], cost["spheres"]), (8, 8 * 14))  # rhombic dodecahedra of edge 2
+        self.assertEqual(self.client.list(), before)
+        self.assertEqual(self.client.health()["queued"], 0)
+        # A file path works as for submit().
+        path = os.path.join(self.tmp, "crystal.json")
+        with open(path, "w") as f:
+            json.dump(CRYSTAL, f)
+        self.assertEqual(self.client.dry_run(path)["spheres"], cost["spheres"])
+        self.assertEqual(self.client.list(), [])
+
+    def test_dry_run_bad_spec_raises_with_field(self):
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.dry_run(dict(TINY, grain={"edge_spheres": -1}))
+        self.assertEqual((ctx.exception.status, ctx.exception.field), (400, "grain.edge_spheres"))
+        # Every crystal dimension at its maximum is more spheres than any spec may hold: a bad spec, not a cost.
+        huge = dict(CRYSTAL, crystal={"grains_x": 100, "rows_z": 400, "layers_y": 100})
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.dry_run(huge)
+        self.assertEqual((ctx.exception.status, ctx.exception.field), (400, "crystal"))
+        self.assertEqual(self.client.list(), [])
+
+    def test_dry_run_over_budget_names_the_limit(self):
+        port = free_port()
+        proc = self._spawn(port, os.path.join(self.tmp, "small.db"), "--max-sphere-steps", "1e6")
+        self._await_health(proc, port, self.extra[-1][1])
+        small = Client(f"http://127.0.0.1:{port}")
+        cost = small.dry_run(CRYSTAL)  # ~2e7 sphere-steps: still answered 200, with the reason
+        self.assertIs(cost["dry_run"], True)
+        self.assertGreater(cost["expected_seconds"], 0)
+        self.assertIn("max_sphere_steps", cost["over_budget"])
+        self.assertNotIn("over_budget", small.dry_run(dict(TINY, loading={"rate_number": 1e-1})))
+        with self.assertRaises(GranulabError) as ctx:  # what the dry run announced
+            small.submit(CRYSTAL)
+        self.assertEqual((ctx.exception.status, ctx.exception.code), (400, "over_budget"))
+        self.assertIn("max_sphere_steps", ctx.exception.message)
+        self.assertEqual(small.list(), [])
+
+    # -- wait_all ----------------------------------------------------------------------------------
+    def test_wait_all_reports_every_outcome(self):
+        # One worker runs them in this order; `slow` holds it, so `queued` is still queued when cancelled.
+        ok = self.client.submit(TINY)
+        failing = self.client.submit(dict(CRYSTAL, crystal={"grains_x": 1, "rows_z": 1, "layers_y": 1}))  # fails
+        slow = self.client.submit(SLOW)
+        queued = self.client.submit(SLOW)
+        self.assertEqual(self.client.status(queued)["status"], "queued")
+        self.client.cancel(queued)
+        seen = []
+        final = self.client.wait_all([ok, failing, queued], timeout=60, poll=0.1, on_progress=seen.append)
+        self.assertEqual(set(final), {ok, failing, queued})
+        self.assertEqual({i: st["status"] for i, st in final.items()},
+                         {ok: "succeeded", failing: "failed", queued: "cancelled"})
+        self.assertIn("two grains", final[failing]["error"])
+        self.assertTrue(seen)
+        for call in seen:
+            self.assertIsInstance(call, list)
+            self.assertEqual([st["id"] for st in call], [ok, failing, queued])
+        self.assertTrue(all(st["status"] in TERMINAL for st in seen[-1]))
+        self.assertEqual(self.client.wait_all([], timeout=1), {})
+        # `slow` runs for minutes: a short timeout is a TimeoutError, whatever the other jobs did.
+        start = time.monotonic()
+        with self.assertRaises(TimeoutError):
+            self.client.wait_all([ok, slow], timeout=0.5, poll=0.1)
+        self.assertLess(time.monotonic() - start, 5)
+        self.client.cancel(slow)
+        self.assertEqual(self.client.wait_all([slow], timeout=30, poll=0.1)[slow]["status"], "cancelled")
+
+    # -- curves as columns, pandas ---------------------------------------------------------------------
+    def _finished(self, spec):
+        job = self.client.submit(spec)
+        self.assertEqual(self.client.wait(job, timeout=60, poll=0.1)["status"], "succeeded")
+        return job
+
+    def test_curve_columns_and_to_pandas(self):
+        job = self._finished(CRYSTAL)
+        curve = self.client.curve(job)
+        self.assertEqual(curve["columns"], CRYSTAL_COLUMNS)
+        rows = len(curve["strain"])
+        self.assertGreater(rows, 1)
+        for name in curve["columns"]:
+            self.assertEqual(len(curve[name]), rows, name)
+        self.assertAlmostEqual(curve["strain"][-1], 0.01, places=3)
+
+        try:
+            import pandas  # noqa: F401
+            have_pandas = True
+        except ImportError:
+            have_pandas = False
+        if have_pandas:
+            df = self.client.to_pandas(job)
+            self.assertEqual(list(df.columns), curve["columns"])
+            for name in curve["columns"]:
+                self.assertEqual(df[name].tolist(), curve[name], name)
+        else:
+            with self.assertRaises(ImportError) as ctx:
+                self.client.to_pandas(job)
+            self.assertIn("python3-pandas", str(ctx.exception))
+
+        # The other path, simulated: no pandas (None in sys.modules fails the import) ...
+        saved = sys.modules.get("pandas", None)
+        had = "pandas" in sys.modules
+        try:
+            sys.modules["pandas"] = None
+            with self.assertRaises(ImportError) as ctx:
+                self.client.to_pandas(job)
+            self.assertIn("python3-pandas", str(ctx.exception))
+            # ... and a stand-in pandas whose DataFrame keeps the columns it was given.
+            fake = types.ModuleType("pandas")
+            fake.DataFrame = lambda data: ("DataFrame", data)
+            sys.modules["pandas"] = fake
+            kind, data = self.client.to_pandas(job)
+            self.assertEqual(kind, "DataFrame")
+            self.assertEqual(list(data), curve["columns"])
+            self.assertEqual(data, {name: curve[name] for name in curve["columns"]})
+        finally:
+            if had:
+                sys.modules["pandas"] = saved
+            else:
+                sys.modules.pop("pandas", None)
+
+    # -- snapshot files and the archive ----------------------------------------------------------------
+    def test_snapshot_files_and_archive(self):
+        job = self._finished(CRYSTAL)
+        indices = [s["index"] for s in self.client.snapshots(job)]
+        self.assertEqual(indices, [0, 1])  # strains 0 and 0.01
+        for k in indices:
+            dump = self.client.snapshot_file(job, k, "dump").splitlines()
+            self.assertEqual(dump[0], "ITEM: TIMESTEP")
+            header = next(i for i, line in enumerate(dump) if line.startswith("ITEM: ATOMS"))
+            columns = dump[header].split()[2:]
+            self.assertEqual(columns[:5], ["id", "x", "y", "z", "radius"])
+            atoms = dump[header + 1:]
+            self.assertEqual(len(atoms), 8)  # a line per grain
+            self.assertTrue(all(len(line.split()) == len(columns) for line in atoms))
+            self.assertTrue(all(float(line.split()[4]) > 0 for line in atoms))
+            for fmt in ("vtk", "vtk_interfaces"):
+                self.assertTrue(self.client.snapshot_file(job, k, fmt).startswith("# vtk DataFile"), fmt)
+            as_json = json.loads(self.client.snapshot_file(job, k, "json"))
+            self.assertEqual(as_json, self.client.snapshot(job, k))
+            self.assertEqual(self.client.snapshot_file(job, k), "\n".join(dump) + "\n")  # the client's default: dump
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.snapshot_file(job, 0, "xyz")
+        self.assertEqual((ctx.exception.status, ctx.exception.field), (400, "format"))
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.snapshot_file(job, 7, "dump")
+        self.assertEqual(ctx.exception.status, 404)
+
+        path = os.path.join(self.tmp, "job.tar")
+        self.assertEqual(self.client.archive(job, path), path)
+        self.assertTrue(tarfile.is_tarfile(path))
+        with tarfile.open(path) as tar:
+            names = set(tar.getnames())
+            d = f"job_{job}/"
+            expected = {d + "spec.json", d + "summary.json", d + "curve.csv"}
+            for k in indices:
+                for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk"):
+                    expected.add(f"{d}snapshots/snapshot_{k}{suffix}")
+            self.assertLessEqual(expected, names)
+            spec = json.loads(tar.extractfile(d + "spec.json").read())
+            self.assertEqual(spec, self.client.status(job)["spec"])
+            self.assertEqual(spec["crystal"]["grains_x"], CRYSTAL["crystal"]["grains_x"])
+            self.assertEqual(tar.extractfile(d + "curve.csv").read().decode(), self.client.curve_csv(job))
+            dump = tar.extractfile(f"{d}snapshots/snapshot_1.dump").read().decode()
+            self.assertEqual(dump, self.client.snapshot_file(job, 1, "dump"))
+        with self.assertRaises(GranulabError) as ctx:
+            self.client.archive(987654, os.path.join(self.tmp, "none.tar"))
+        self.assertEqual(ctx.exception.status, 404)
+
+    # -- retries -------------------------------------------------------------------------------------
+    def _start_later(self, port, delay):
+        """Starts a daemon on `port` after `delay` s in a thread; join the thread before the test ends."""
+        def run():
+            time.sleep(delay)
+            self._spawn(port, os.path.join(self.tmp, f"late_{port}.db"))
+        thread = threading.Thread(target=run)
+        thread.start()
+        return thread
+
+    def test_retries_reach_a_daemon_that_starts_late(self):
+        port = free_port()
+        thread = self._start_later(port, 1.0)
+        try:
+            start = time.monotonic()
+            with self.assertRaises(GranulabError) as ctx:  # no retries: refused at once
+                Client(f"http://127.0.0.1:{port}", retries=0).health()
+            self.assertLess(time.monotonic() - start, 0.5)
+            self.assertEqual((ctx.exception.status, ctx.exception.code), (0, "unreachable"))
+            start = time.monotonic()
+            self.assertEqual(Client(f"http://127.0.0.1:{port}", retries=3).health()["status"], "ok")
+            self.assertGreaterEqual(time.monotonic() - start, 1.0)  # it was answered by the late daemon
+        finally:
+            thread.join()
+
+    def test_refused_post_is_retried_once_received(self):
+        port = free_port()
+        thread = self._start_later(port, 1.0)
+        try:
+            late = Client(f"http://127.0.0.1:{port}", retries=3)
+            job = late.submit(TINY)  # refused twice or so, then received once
+        finally:
+            thread.join()
+        self.assertEqual([j["id"] for j in late.list()], [job])
+
+    def _silent_server(self, answer=b""):
+        """A listener that reads each request and closes with `answer` (nothing: no response at all);
+        returns (url, list of request lines seen, stop function)."""
+        listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        listener.bind(("127.0.0.1", 0))
+        listener.listen(8)
+        listener.settimeout(0.2)
+        seen, stop = [], threading.Event()
+
+        def serve():
+            while not stop.is_set():
+                try:
+                    conn, _ = listener.accept()
+                except socket.timeout:
+                    continue
+                with conn:
+                    conn.settimeout(5)
+                    data = b""
+                    while b"\r\n\r\n" not in data:
+                        chunk = conn.recv(65536)
+                        if not chunk:
+                            break
+                        data += chunk
+                    head, _, body = data.partition(b"\r\n\r\n")
+                    length = 0
+                    for line in head.split(b"\r\n")[1:]:
+                        name, _, value = line.partition(b":")
+                        if name.strip().lower() == b"content-length":
+                            length = int(value)
+                    while len(body) < length:
+                        chunk = conn.recv(65536)
+                        if not chunk:
+                            break
+                        body += chunk
+                    seen.append(head.split(b"\r\n")[0].decode())
+                    if answer:
+                        conn.sendall(answer)
+            listener.close()
+
+        thread = threading.Thread(target=serve)
+        thread.start()
+
+        def halt():
+            stop.set()
+            thread.join()
+        self.addCleanup(halt)
+        return f"http://127.0.0.1:{listener.getsockname()[1]}", seen, halt
+
+    def test_only_unanswered_gets_are_retried_not_posts(self):
+        url, seen, halt = self._silent_server()
+        client = Client(url, retries=2, timeout=5)
+        start = time.monotonic()
+        with self.assertRaises(GranulabError) as ctx:
+            client.health()
+        self.assertEqual(ctx.exception.code, "unreachable")
+        self.assertGreaterEqual(time.monotonic() - start, 1.4)  # waited 0.5 + 1 s
+        self.assertEqual(seen, ["GET /v1/health HTTP/1.1"] * 3)
+        del seen[:]
+        # The POST was received (the server closed without answering): retrying could run the job twice.
+        with self.assertRaises(GranulabError) as ctx:
+            client.submit(TINY)
+        self.assertEqual(ctx.exception.code, "unreachable")
+        self.assertEqual(seen, ["POST /v1/jobs HTTP/1.1"])
+        halt()
+
+    def test_503_is_retried_other_errors_are_not(self):
+        body = b'{"error":{"code":"too_many_connections","message":"busy"}}'
+        busy = (b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\nConnection: close\r\n"
+                b"Content-Length: %d\r\n\r\n%s" % (len(body), body))
+        url, seen, halt = self._silent_server(busy)
+        with self.assertRaises(GranulabError) as ctx:
+            Client(url, retries=1).health()
+        self.assertEqual((ctx.exception.status, ctx.exception.code), (503, "too_many_connections"))
+        self.assertEqual(len(seen), 2)
+        halt()
+        # A 4xx is an answer: never retried.
+        real = Client(f"http://127.0.0.1:{self.port}", retries=3)
+        start = time.monotonic()
+        with self.assertRaises(GranulabError) as ctx:
+            real.status(987654)
+        self.assertEqual(ctx.exception.status, 404)
+        self.assertLess(time.monotonic() - start, 0.5)
+
+    # -- latest row and warnings in the status ---------------------------------------------------------
+    def test_running_job_shows_its_latest_row(self):
+        # A compression of 2e5 steps (about 2 s on one thread): rows are stored every second while it runs.
+        job = self.client.submit(dict(CRYSTAL, loading={"max_strain": 0.01, "rate_number": 3e-7},
+                                      output={"curve_points": 40}, run={"threads": 1}))
+        latest_seen, listed = [], []
+        deadline = time.monotonic() + 60
+        while True:
+            st = self.client.status(job)
+            if st["status"] in TERMINAL:
+                break
+            if st["status"] == "running" and "latest" in st:
+                latest_seen.append(st["latest"])
+                for j in self.client.list(status="running"):
+                    if j["id"] == job:  # still running: the rows it had are still there
+                        listed.append(j.get("latest"))
+            self.assertLess(time.monotonic(), deadline, "job did not finish within 60 s")
+            time.sleep(0.1)
+        self.assertEqual(st["status"], "succeeded")
+        self.assertNotIn("latest", st)
+        self.assertNotIn("latest", next(j for j in self.client.list() if j["id"] == job))
+        self.assertTrue(latest_seen, "no 'latest' while running")
+        for latest in latest_seen:
+            self.assertEqual(sorted(latest), sorted(CRYSTAL_COLUMNS))
+            self.assertGreater(latest["strain"], 0)
+            self.assertIsInstance(latest["deviator"], float)
+        strains = [latest["strain"] for latest in latest_seen]
+        self.assertEqual(strains, sorted(strains))
+        self.assertIn(latest_seen[-1]["strain"], self.client.curve(job)["strain"])
+        for latest in listed:
+            self.assertIsInstance(latest, dict)
+            self.assertIn("strain", latest)
+
+    def test_warnings_in_status_and_list(self):
+        # Two grains stacked through the thickness without friction never settle: the confinement stops at
+        # its step limit (200000 steps, ~2 s on one thread) and the summary warns.
+        unsettled = dict(CRYSTAL, material={"friction": 0}, crystal={"grains_x": 1, "rows_z": 1, "layers_y": 2},
+                         run={"threads": 1, "skin_factor": 0.5})
+        warned = self.client.submit(unsettled)
+        quiet = self.client.submit(TINY)
+        final = self.client.wait_all([warned, quiet], timeout=60, poll=0.2)
+        self.assertEqual(final[warned]["status"], "succeeded")
+        st = self.client.status(warned)
+        self.assertEqual(len(st["warnings"]), 1, st.get("warnings"))
+        self.assertIn("confinement stopped", st["warnings"][0])
+        self.assertEqual(st["warnings"], st["summary"]["warnings"])
+        self.assertFalse(st["summary"]["confinement"]["converged"])
+        listed = {j["id"]: j for j in self.client.list()}
+        self.assertEqual(listed[warned]["warnings"], st["warnings"])
+        self.assertNotIn("warnings", listed[quiet])  # no warnings: no key
+        self.assertNotIn("warnings", self.client.status(quiet))
 
     def test_command_line(self):
         script = os.path.join(ROOT, "clients", "python", "granulab_client.py")
