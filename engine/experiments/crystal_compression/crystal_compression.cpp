@@ -183,10 +183,23 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
     sink.curve_row(r.curve.back().values());
   };
 
+  // The progress bar is shared between the phases in proportion to their expected steps, so that an ETA
+  // drawn from it holds from the start. Confinement: about 4 of the servo's time constants (20 x 50 contact
+  // times each; a 6 x 12 x 3 crystal took 4.4), at most its step limit; compression: from its rate and length.
+  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double dt = world.settings().time_step;
+  constexpr double time_constants = 4;
+  const double confinement_steps =
+      std::min(double(params_.max_confinement_steps), time_constants * 20 * 50 * sample_.contact_time() / dt);
+  const double length = ref_length_ > 0 ? ref_length_ : top.point.z() - bottom.point.z();  // before confinement: about it
+  const double compression_steps = (params_.max_strain * length / (params_.rate_number * wave_speed) + 5 * length / wave_speed) / dt;
+  const double share = confinement_steps / (confinement_steps + compression_steps);
   if (!at.compressing) {
-    // Confinement counts as the first 10 % of the progress bar (its length is not known in advance).
-    r.confinement = granulab::confine(sample_, [&](double f) { return sink.progress(0.1 * f); }, nullptr,
-                                      &at.confinement, safe_point);
+    // confine() reports 1 - exp(-steps / time constant): back to time constants, linear in steps.
+    const auto confinement_progress = [&](double f) {
+      return sink.progress(share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / time_constants));
+    };
+    r.confinement = granulab::confine(sample_, confinement_progress, nullptr, &at.confinement, safe_point);
     // Reference state for strains, displacements and lateral strains.
     take_reference();
     at.compressing = true;
@@ -195,9 +208,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
     at.first = world.steps();
   }
 
-  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
   const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
-  const double dt = world.settings().time_step;
   // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
   // stress wave of amplitude E R (= p0 at R = 1e-5, E = 3 GPa) through it.
   const double ramp_time = 10 * ref_length_ / wave_speed;
@@ -222,7 +233,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
     }
     // Every step (milliseconds to a second on a crystal; the sink's calls cost a clock read): a cancel or
     // a shutdown stops the run at once, and a checkpoint may be taken.
-    if (!sink.progress(0.1 + 0.9 * std::min(1.0, std::max(0.0, strain) / params_.max_strain))) throw Cancelled();
+    if (!sink.progress(share + (1 - share) * std::min(1.0, std::max(0.0, strain) / params_.max_strain))) throw Cancelled();
     if (at.next_row < record_at.size()) safe_point();
   }
   sink.progress(1.0);
