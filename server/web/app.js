@@ -215,7 +215,8 @@ async function sweepView(id) {
     const sweep = await getJson("/v1/sweeps/" + id);
     const keys = Object.keys(sweep.vary || {});
     const anyLive = sweep.jobs.some(live);
-    fill(head, el("h1", {}, "Sweep " + sweep.id + ": " + (sweep.label || "")),
+    fill(head, el("h1", {}, "Sweep " + sweep.id + (sweep.label ? ": " + sweep.label : ""),
+      el("span", { class: "hint" }, " varying " + Object.keys(sweep.vary || {}).join(", "))),
       el("p", {}, Object.entries(sweep.counts).map(([s, n]) => n + " " + s).join(", "),
         anyLive ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/sweeps/${id}/cancel`); } }, "Cancel the rest") : null));
     await picture(`/v1/sweeps/${id}/curves.svg`, curves);

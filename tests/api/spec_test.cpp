@@ -151,7 +151,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   json expected = json::parse(kContractCrystalExample);
   expected["label"] = "";
   expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
-  // Deliberate departures: the default rate is the one shown converged (docs/model.md; README "Quasi-static
+  // Deliberate departures: the default rate is the one shown converged (docs/model.md; docs/results.md, "Quasi-static
   // rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
   expected["loading"]["rate_number"] = 1e-5;
   expected["crystal"]["knockout_regions"] = json::array();

@@ -18,7 +18,7 @@ namespace granulab {
 
 struct CrystalParams : CrystalSampleParams {
   double max_strain = 0.1;           ///< compression stops here (-)
-  double rate_number = 1e-5;         ///< R (-); converged default, see README "Quasi-static rate"
+  double rate_number = 1e-5;         ///< R (-); converged default, see docs/results.md, "Quasi-static rate"
   int curve_points = 400;            ///< curve rows after the start (-)
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
 };
