@@ -334,6 +334,13 @@ def main(argv=None):
             _print_json(client.health())
         elif a.cmd == "experiments":
             _print_json(client.experiments())
+    except KeyboardInterrupt:  # Ctrl-C stops this client, not the job: say so instead of a traceback
+        if a.cmd == "wait":
+            sys.stderr.write(f"\nstopped waiting; job {a.id} goes on on the server "
+                             f"(granulab_client.py cancel {a.id} stops it)\n")
+        else:
+            sys.stderr.write("\ninterrupted\n")
+        return 130
     except BrokenPipeError:  # e.g. `... list | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -573,6 +573,20 @@ class PythonClientTest(unittest.TestCase):
         self.assertEqual(out.returncode, 1)
         self.assertIn("404", out.stderr)
 
+    def test_ctrl_c_on_wait_stops_waiting_not_the_job(self):
+        script = os.path.join(ROOT, "clients", "python", "granulab_client.py")
+        job = self.client.submit(SLOW)
+        proc = subprocess.Popen([sys.executable, script, "--server", f"http://127.0.0.1:{self.port}", "wait", str(job)],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        time.sleep(1.0)  # waiting by now
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+        self.assertEqual(proc.returncode, 130, err)
+        self.assertIn(f"stopped waiting; job {job} goes on", err)
+        self.assertNotIn("Traceback", err)
+        self.assertIn(self.client.status(job)["status"], ("queued", "running"))  # not cancelled
+        self.client.cancel(job)
+
 
 if __name__ == "__main__":
     unittest.main()
