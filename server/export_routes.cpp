@@ -6,6 +6,7 @@
 
 #include <ctime>
 #include <memory>
+#include <mutex>
 
 #include "api/snapshot_files.h"
 #include "server/routes.h"
@@ -85,6 +86,21 @@ void HttpServer::export_routes() {
   router().Get(R"(/v1/jobs/(\d+)/archive)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
     const auto job = job_for(req, res, "read", false);
     if (!job) return;
+    // The tar is built in memory (about 2.2 times the stored snapshots: four formats) and held until the
+    // client has read it: one build at a time, and none above the cap, so no reader can exhaust the
+    // daemon's memory or its handler threads.
+    constexpr double max_archive_bytes = 256e6;
+    double stored = 0;
+    for (const auto& info : store_.snapshots(job->id)) stored += double(info.bytes);
+    if (2.2 * stored > max_archive_bytes)
+      return error(res, 413, "too_large",
+                   "job " + std::to_string(job->id) + "'s archive would be about " + std::to_string(int(2.2 * stored / 1e6)) +
+                       " MB, over the 256 MB the server builds at once: download its snapshots one by one "
+                       "(/v1/jobs/{id}/snapshots/{k}?format=...) or with `granulab results`");
+    static std::mutex one_at_a_time;
+    std::unique_lock<std::mutex> building(one_at_a_time, std::try_to_lock);
+    if (!building.owns_lock())
+      return error(res, 503, "busy", "another archive is being built; try again in a few seconds");
     const std::string dir = "job_" + std::to_string(job->id) + "/";
     TarWriter tar;
     const json spec = json::parse(job->spec_json, nullptr, false);

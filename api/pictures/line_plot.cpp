@@ -70,13 +70,7 @@ std::string line_plot_svg(const LinePlot& plot) {
                     "\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\" font-size=\"12\">\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   // A title longer than the picture (about 8.5 px per character of 15 px bold text) ends in an ellipsis.
-  std::string title = plot.title;
-  const std::size_t fits = std::size_t(std::max(10.0, (W - 20) / 8.5));
-  if (title.size() > fits) {
-    std::size_t cut = fits - 1;
-    while (cut > 0 && (static_cast<unsigned char>(title[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
-    title = title.substr(0, cut) + "\u2026";
-  }
+  const std::string title = fit_text(plot.title, W - 20, 8.5);
   svg += "<text x=\"" + num(W / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
          xml_escape(title) + "</text>\n";
   if (!plot.note.empty())

@@ -138,8 +138,10 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   // Page: the section scaled to 600 px tall (or 560 wide), a colour bar on its right.
   const double scale = std::min(600 / (z1 - z0), 560 / (x1 - x0));
   const double margin = 20, top = 60, pw = (x1 - x0) * scale, ph = (z1 - z0) * scale;
-  // Wide enough for the title (about 8.5 px per character of 15 px bold text).
-  const double bar_x = margin + pw + 30, W = std::max(bar_x + 130, 8.5 * double(title.size()) + 40), H = top + ph + 40;
+  // Wide enough for the title (about 8.5 px per character of 15 px bold text), up to 1,200 px; tall enough for
+  // the colour bar (a wide, flat layer is short).
+  const double bar_x = margin + pw + 30, W = std::min(std::max(bar_x + 130, 8.5 * double(title.size()) + 40), std::max(bar_x + 130, 1200.0));
+  const double H = top + std::max(ph, 220.0) + 40;
   const auto X = [&](double x) { return margin + (x - x0) * scale; };
   const auto Z = [&](double z) { return top + (z1 - z) * scale; };  // z (compression axis) up
 
@@ -148,7 +150,7 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
                     "\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\" font-size=\"12\">\n"
                     "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg += "<text x=\"" + num(W / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
-         xml_escape(title) + "</text>\n";
+         xml_escape(fit_text(title, W - 20, 8.5)) + "</text>\n";
   svg += "<text x=\"" + num(W / 2) + "\" y=\"42\" text-anchor=\"middle\" fill=\"#555\">axial strain " +
          num(100 * s.strain, 3) + " %, {111} layer " + std::to_string(chosen) + " of 0-" +
          std::to_string(std::max(0, layers.count - 1)) + ", " + std::to_string(grains.size()) +
@@ -192,7 +194,7 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   svg += "</g>\n";
 
   // Colour bar with five ticks.
-  const double bar_top = top + 10, bar_h = std::min(ph - 20, 360.0);
+  const double bar_top = top + 10, bar_h = std::min(std::max(ph, 220.0) - 20, 360.0);
   svg += "<g class=\"colour-bar\">\n";
   for (int k = 0; k < 64; ++k)
     svg += "<rect x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h * (63 - k) / 64) + "\" width=\"18\" height=\"" +

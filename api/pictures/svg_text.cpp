@@ -44,6 +44,14 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
+std::string fit_text(const std::string& text, double width, double px_per_char) {
+  const std::size_t fits = std::size_t(std::max(10.0, width / px_per_char));
+  if (text.size() <= fits) return text;
+  std::size_t cut = fits - 1;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  return text.substr(0, cut) + "\u2026";
+}
+
 std::vector<double> nice_ticks(double lo, double hi, int target) {
   if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return {lo};
   const double raw = (hi - lo) / std::max(1, target);

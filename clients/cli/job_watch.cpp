@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -29,36 +30,41 @@ std::string duration(double s) {
 
 bool finished(const std::string& status) { return status == "succeeded" || status == "failed" || status == "cancelled"; }
 
+// A number at `key`, or `fallback` when it is missing or not a number (a NaN cell arrives as null).
+double number(const json& j, const char* key, double fallback = 0) {
+  return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
+}
+
 }  // namespace
 
 std::string job_line(const json& job, int bar_width) {
-  const std::string status = job.value("status", "?");
-  const double progress = job.value("progress", 0.0);
+  const std::string status = job.contains("status") && job["status"].is_string() ? job["status"].get<std::string>() : "?";
+  const double progress = std::clamp(number(job, "progress"), 0.0, 1.0);
   const int filled = int(progress * bar_width + 0.5);
   char head[160];
-  std::snprintf(head, sizeof head, "job %-5lld %-9s [%s%s] %5.1f %%", job.value("id", 0LL), status.c_str(),
+  std::snprintf(head, sizeof head, "job %-5lld %-9s [%s%s] %5.1f %%", (long long)number(job, "id"), status.c_str(),
                 std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(bar_width - filled), '.').c_str(),
                 100 * progress);
   std::string line = head;
-  if (status == "running" && job.contains("eta_seconds")) line += "  ETA " + duration(job["eta_seconds"].get<double>());
+  if (status == "running" && job.contains("eta_seconds")) line += "  ETA " + duration(number(job, "eta_seconds"));
   // The latest strain and stress of a running job, the first yield of a finished crystal.
   if (job.contains("latest") && job["latest"].is_object()) {
     const json& l = job["latest"];
     char text[96];
-    if (l.contains("strain")) std::snprintf(text, sizeof text, "  strain %.3g %%", 100 * l["strain"].get<double>()), line += text;
-    if (l.contains("deviator")) std::snprintf(text, sizeof text, "  deviator %.4g kPa", l["deviator"].get<double>() / 1e3), line += text;
+    if (l.contains("strain")) std::snprintf(text, sizeof text, "  strain %.3g %%", 100 * number(l, "strain")), line += text;
+    if (l.contains("deviator")) std::snprintf(text, sizeof text, "  deviator %.4g kPa", number(l, "deviator") / 1e3), line += text;
     if (l.contains("tangential_over_p0"))
-      std::snprintf(text, sizeof text, "  u/l %.3g  T/P0 %.3g", l.value("slide_over_size", 0.0), l["tangential_over_p0"].get<double>()),
+      std::snprintf(text, sizeof text, "  u/l %.3g  T/P0 %.3g", number(l, "slide_over_size"), number(l, "tangential_over_p0")),
           line += text;
   }
   if (job.contains("summary") && job["summary"].contains("first_yield")) {
     const json& y = job["summary"]["first_yield"];
     char text[96];
-    std::snprintf(text, sizeof text, "  first yield %.3g p0 at %.3g %%", y.value("deviator_over_p0", 0.0), 100 * y.value("strain", 0.0));
+    std::snprintf(text, sizeof text, "  first yield %.3g p0 at %.3g %%", number(y, "deviator_over_p0"), 100 * number(y, "strain"));
     line += text;
   }
-  if (job.contains("error")) line += "  " + job["error"].get<std::string>();
-  if (job.contains("warnings") && !job["warnings"].empty())
+  if (job.contains("error") && job["error"].is_string()) line += "  " + job["error"].get<std::string>();
+  if (job.contains("warnings") && job["warnings"].is_array() && !job["warnings"].empty())
     line += "  (" + std::to_string(job["warnings"].size()) + " warning" + (job["warnings"].size() > 1 ? "s" : "") + ")";
   return line;
 }
@@ -114,8 +120,9 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
   for (const std::string& id : ids) {
     const json& j = last[id];
     if (j.value("status", "") != "succeeded") result = 1;
-    if (j.contains("warnings"))
-      for (const json& w : j["warnings"]) std::fprintf(stderr, "job %s warning: %s\n", id.c_str(), w.get<std::string>().c_str());
+    if (j.contains("warnings") && j["warnings"].is_array())
+      for (const json& w : j["warnings"])
+        if (w.is_string()) std::fprintf(stderr, "job %s warning: %s\n", id.c_str(), w.get<std::string>().c_str());
   }
   return result;
 }

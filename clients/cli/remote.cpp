@@ -152,6 +152,9 @@ int run_sweep(httplib::Client& http, const Args& a) {
   json spec = json::parse(read_spec(a.target, "sweep"), nullptr, false);
   if (spec.is_discarded()) throw std::invalid_argument("spec file '" + a.target + "' is not JSON");
   const json vary = parse_vary(a.vary);
+  // The output folder first: an unwritable one is an error before any job runs, not after all have.
+  const fs::path out(a.out);
+  fs::create_directories(out);
   json body = {{"spec", spec}, {"vary", vary}, {"mode", a.zip ? "zip" : "product"}};
   if (!a.label.empty()) body["label"] = a.label;
   const json created = json::parse(call(http, a.server, "POST", "/v1/sweeps?priority=" + std::to_string(a.priority), body.dump()));
@@ -163,8 +166,6 @@ int run_sweep(httplib::Client& http, const Args& a) {
   const int waited = watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, ids);
   if (waited == 130) return waited;
   // The table: one row per job, its varied values, status, first yield and peak.
-  const fs::path out(a.out);
-  fs::create_directories(out);
   const json table = json::parse(call(http, a.server, "GET", "/v1/sweeps/" + sweep));
   std::string csv = "id";
   for (const auto& [key, values] : vary.items()) csv += "," + key;
@@ -172,6 +173,7 @@ int run_sweep(httplib::Client& http, const Args& a) {
   const auto cell = [](const json& point, const char* key) {
     if (!point.is_object() || !point.contains(key)) return std::string();
     char text[40];
+    if (!point[key].is_number()) return std::string();
     std::snprintf(text, sizeof text, "%.9g", point[key].get<double>());
     return std::string(text);
   };

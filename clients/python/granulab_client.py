@@ -21,6 +21,7 @@ Requires Python >= 3.9 and nothing outside the standard library.
 import argparse
 import json
 import os
+import socket
 import sys
 import time
 import urllib.error
@@ -103,8 +104,13 @@ class Client:
         except urllib.error.HTTPError as e:
             raise self._error_from(e.code, e.read().decode("utf-8", "replace")) from None
         except urllib.error.URLError as e:
-            raise GranulabError(0, "unreachable", f"cannot reach {self.server}: {e.reason}") from None
-        except (ConnectionError, TimeoutError, OSError) as e:  # e.g. reset mid-response
+            # A timeout is an answer that did not come in time, not an unreachable server: never retried (the
+            # server may still be working on it; asking again would repeat the work).
+            code = "timeout" if isinstance(e.reason, (TimeoutError, socket.timeout)) else "unreachable"
+            raise GranulabError(0, code, f"cannot reach {self.server}: {e.reason}") from None
+        except (TimeoutError, socket.timeout) as e:
+            raise GranulabError(0, "timeout", f"{self.server} did not answer within {self.timeout} s: {e}") from None
+        except (ConnectionError, OSError) as e:  # e.g. reset mid-response
             raise GranulabError(0, "unreachable", f"cannot reach {self.server}: {e}") from None
         if raw:
             return payload

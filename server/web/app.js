@@ -178,7 +178,7 @@ async function jobView(id) {
     fill(head, 
       el("h1", {}, "Job " + job.id + ": " + (job.label || job.experiment)),
       el("p", {}, statusCell(job.status), "  ", progressBar(job),
-        live(job) ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/jobs/${id}/cancel`); } }, "Cancel") : null),
+        live(job) ? el("button", { style: "margin-left:1em", onclick: async () => { const r = await sendJson("POST", `/v1/jobs/${id}/cancel`); if (r.status >= 400) alert(r.body.error ? r.body.error.message : "HTTP " + r.status); } }, "Cancel") : null),
       job.latest ? el("p", { id: "latest" }, "now: " + latestText(job.latest)) : null,
       job.error ? el("p", { class: "error" }, job.error) : null,
       ...warnings.map((w) => el("p", {}, el("span", { class: "warning" }, "⚠ " + w))),
@@ -218,7 +218,7 @@ async function sweepView(id) {
     fill(head, el("h1", {}, "Sweep " + sweep.id + (sweep.label ? ": " + sweep.label : ""),
       el("span", { class: "hint" }, " varying " + Object.keys(sweep.vary || {}).join(", "))),
       el("p", {}, Object.entries(sweep.counts).map(([s, n]) => n + " " + s).join(", "),
-        anyLive ? el("button", { style: "margin-left:1em", onclick: async () => { await sendJson("POST", `/v1/sweeps/${id}/cancel`); } }, "Cancel the rest") : null));
+        anyLive ? el("button", { style: "margin-left:1em", onclick: async () => { const r = await sendJson("POST", `/v1/sweeps/${id}/cancel`); if (r.status >= 400) alert(r.body.error ? r.body.error.message : "HTTP " + r.status); } }, "Cancel the rest") : null));
     await picture(`/v1/sweeps/${id}/curves.svg`, curves);
     fill(table, el("tr", {}, ["job", ...keys, "status", "progress", "first yield (p0)", "at strain (%)", "peak (p0)", "at strain (%)"].map((h) => el("th", {}, h))),
       ...sweep.jobs.map((j) => el("tr", { "data-id": j.id },
@@ -306,6 +306,19 @@ async function submitView() {
   };
 
   async function submit() {
+    const button = document.getElementById("submit");
+    if (button.disabled) return;  // one submission at a time: a double click makes one job
+    button.disabled = true;
+    try {
+      await send();
+    } catch (e) {
+      showError("", e.message);
+    } finally {
+      button.disabled = false;
+    }
+  }
+
+  async function send() {
     for (const e of form.querySelectorAll(".field-error")) e.hidden = true;
     for (const e of form.querySelectorAll("input.bad")) e.classList.remove("bad");
     message.textContent = "";
@@ -334,7 +347,10 @@ async function submitView() {
     const answer = sweep
       ? await sendJson("POST", "/v1/sweeps", { spec, vary: varied, mode: zip.checked ? "zip" : "product", label: spec.label || "" })
       : await sendJson("POST", "/v1/jobs", spec);
-    if (answer.status >= 400) return showError(answer.body.error.field, answer.body.error.message);
+    if (answer.status >= 400) {
+      const error = answer.body.error || { field: "", message: "HTTP " + answer.status };
+      return showError(error.field, error.message);
+    }
     location.hash = sweep ? "#/sweeps/" + answer.body.id : "#/jobs/" + answer.body.id;
   }
   return null;
@@ -344,6 +360,7 @@ async function submitView() {
 
 async function route() {
   clearTimeout(timer);
+  ++views;
   const hash = location.hash || "#/";
   let match, refresh = null;
   try {
@@ -354,15 +371,39 @@ async function route() {
   } catch (e) {
     return setMain(el("p", { class: "error" }, e.message));
   }
-  const current = hash;
-  // Refresh while anything shown is queued or running; the list keeps polling (new jobs may come).
+  const current = hash, generation = ++views;
+  // Refresh while anything shown is queued or running; the list keeps polling (new jobs may come). An error
+  // (a daemon restarting, a missing token) shows once and polling goes on, slower, until it clears.
+  let failures = 0;
   const tick = async () => {
-    if (location.hash !== current && !(current === "#/" && !location.hash)) return;
+    if (generation !== views) return;  // another view (or the same one again) took over
     let again = true;
-    try { again = await refresh(); } catch (e) { document.getElementById("main").prepend(el("p", { class: "error" }, e.message)); again = false; }
-    if (again || current === "#/" || current === "") timer = setTimeout(tick, REFRESH_MS);
+    try {
+      again = await refresh();
+      failures = 0;
+      showViewError(null);
+    } catch (e) {
+      failures += 1;
+      showViewError(e.message);
+    }
+    if (generation !== views) return;
+    if (again || failures || current === "#/" || current === "")
+      timer = setTimeout(tick, REFRESH_MS * Math.min(8, 1 + failures));
   };
   if (refresh) tick();
+}
+
+let views = 0;  // the current view's number: a polling loop of an older one stops
+
+// One error line above the view, replaced (not piled up) while the error lasts, removed when it clears.
+function showViewError(message) {
+  let line = document.getElementById("view-error");
+  if (!message) return line && line.remove();
+  if (!line) {
+    line = el("p", { class: "error", id: "view-error" });
+    document.getElementById("main").prepend(line);
+  }
+  line.textContent = message;
 }
 
 document.getElementById("token-form").addEventListener("submit", (e) => {

@@ -161,6 +161,28 @@ TEST(SectionPicture, OnlyInterfacesOfTheLayerSlidingOverTwiceTheMeanAreDrawn) {
   EXPECT_EQ(lines(1), 0u);
 }
 
+TEST(SectionPicture, AWideFlatLayerStillHasItsColourBarAndALongTitleIsCut) {
+  CrystalGeometry g;
+  g.size = kSize;
+  g.grains_x = 60, g.rows_z = 1, g.layers_y = 3;
+  const CrystalLattice lattice = build_crystal(g);
+  GrainSnapshot s;
+  for (const LatticeSite& site : lattice.sites) {
+    s.id.push_back(site.id), s.position.push_back(site.position), s.displacement.push_back(Vec3::Zero());
+    s.orientation.push_back(lattice.orientation);
+    for (auto* field : {&s.penetration, &s.penetration_ratio, &s.max_shear_strain, &s.equivalent_strain}) field->push_back(1.0);
+  }
+  for (std::size_t i = 0; i < s.id.size(); ++i)
+    for (std::size_t j = i + 1; j < s.id.size(); ++j)
+      if ((s.position[i] - s.position[j]).norm() < 1.1 * kSize / std::sqrt(2.0)) s.interfaces.push_back({s.id[i], s.id[j]}), s.sliding.push_back(0);
+  ASSERT_EQ(layer_count(s), 3);
+  const std::string svg = section_svg(s, Field::severity, 1, std::string(100000, 'x'));
+  EXPECT_EQ(svg.find("height=\"-"), std::string::npos) << "a negative height";
+  const auto width = std::stod(svg.substr(svg.find("width=\"") + 7));
+  EXPECT_LE(width, 1200.0);
+  EXPECT_LT(svg.size(), 100000u);  // the title was cut
+}
+
 TEST(SectionPicture, ASliceOutsideTheCrystalNamesTheValidLayers) {
   const GrainSnapshot s = reference_crystal();
   try {

@@ -265,6 +265,8 @@ class WebPageWithTokensTest(unittest.TestCase):
             browser.open(daemon.url + "/#/")
             self.assertTrue(browser.until("!document.getElementById('token-bar').hidden"))
             self.assertFalse(browser.js("document.querySelector('#jobs tr[data-id]') !== null"))  # nothing without it
+            time.sleep(3)  # a few refreshes fail meanwhile: one error line, not one per refresh
+            self.assertEqual(browser.js("document.querySelectorAll('#main .error').length"), 1)
             browser.js("""document.getElementById('token').value = 's3cret-ada';
                           document.getElementById('token-form').requestSubmit()""")
             self.assertIn(browser.until(f"(document.querySelector('#jobs tr[data-id=\"{job}\"] .status') || {{}}).textContent"),
