@@ -16,12 +16,6 @@ namespace {
 
 constexpr std::size_t max_sweep_curves = 50;  // beyond this a legend is unreadable
 
-json parsed(const std::string& text) {
-  json j = json::parse(text, nullptr, false);
-  return j.is_discarded() ? json() : j;
-}
-
-
 }  // namespace
 
 void HttpServer::picture_routes() {
@@ -44,7 +38,7 @@ void HttpServer::picture_routes() {
         ++left_out;
         continue;
       }
-      curves.push_back({parsed(j.sweep_values), parsed(j.spec_json), curve_columns(store_, j).value_or(json::object()), j.status});
+      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(store_, j).value_or(json::object()), j.status});
     }
     const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
     res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out)), "image/svg+xml");

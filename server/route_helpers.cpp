@@ -94,6 +94,11 @@ bool query_int(const httplib::Request& req, httplib::Response& res, const char* 
   return false;
 }
 
+json parsed_or_null(const std::string& text) {
+  json j = json::parse(text, nullptr, false);
+  return j.is_discarded() ? json() : j;
+}
+
 json latest_values(JobStore& store, const JobRecord& job) {
   if (job.status != "running") return nullptr;
   const auto row = store.latest_row(job.id);
@@ -129,11 +134,8 @@ std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {
 std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job) {
   const auto curve = curve_columns(store, job);
   if (!curve) return std::nullopt;
-  const auto parsed = [](const std::string& text) {
-    json j = json::parse(text, nullptr, false);
-    return j.is_discarded() ? json() : j;
-  };
-  pictures::LinePlot plot = pictures::job_curve_plot(parsed(job.spec_json), *curve, parsed(job.summary_json));
+  pictures::LinePlot plot =
+      pictures::job_curve_plot(parsed_or_null(job.spec_json), *curve, parsed_or_null(job.summary_json));
   plot.title = job.label.empty() ? "job " + std::to_string(job.id) : job.label;
   if (job.status != "succeeded") plot.title += " (" + job.status + ")";
   return pictures::line_plot_svg(plot);

@@ -33,6 +33,8 @@ std::optional<nlohmann::json> curve_columns(JobStore& store, const JobRecord& jo
 /// The job's curve drawn (api/pictures), titled with its label (or "job N") and, unless it succeeded, its
 /// status; nullopt when it has no rows yet.
 std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job);
+/// Stored JSON text parsed, or null when it is empty or unreadable (never throws).
+nlohmann::json parsed_or_null(const std::string& text);
 /// A running job's latest curve row as {column: value} (its strain and stresses now), or null.
 nlohmann::json latest_values(JobStore& store, const JobRecord& job);
 /// The job's warnings (from its summary; criteria the run missed), an empty array when none.

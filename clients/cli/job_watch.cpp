@@ -20,13 +20,18 @@ std::atomic<bool> interrupted{false};
 
 extern "C" void on_interrupt(int) { interrupted = true; }
 
+}  // namespace
+
 std::string duration(double s) {
   char text[48];
-  if (s < 90) std::snprintf(text, sizeof text, "%.0f s", s);
+  if (s < 10) std::snprintf(text, sizeof text, "%.2g s", s);
+  else if (s < 90) std::snprintf(text, sizeof text, "%.0f s", s);
   else if (s < 5400) std::snprintf(text, sizeof text, "%.0f min", s / 60);
   else std::snprintf(text, sizeof text, "%.1f h", s / 3600);
   return text;
 }
+
+namespace {
 
 bool finished(const std::string& status) { return status == "succeeded" || status == "failed" || status == "cancelled"; }
 

@@ -17,6 +17,9 @@ using JsonGetter = std::function<nlohmann::json(const std::string& path)>;
 /// Waits until every job has finished. Returns 0 when all succeeded, 1 when any did not, 130 after Ctrl-C.
 int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids);
 
+/// A time for people: "4.2 s", "35 s", "12 min", "3.7 h".
+std::string duration(double seconds);
+
 /// One job's line: "job 12  running    [#####.....]  48.0 %  ETA 3 min  strain 1.20 %  deviator 84.1 kPa".
 std::string job_line(const nlohmann::json& job, int bar_width = 20);
 

@@ -119,19 +119,14 @@ json parse_vary(const std::vector<std::string>& options) {
 
 std::string human_cost(const json& c) {
   char text[400];
-  const double seconds = c.value("expected_seconds", 0.0);
-  char when[48];
-  if (seconds < 10) std::snprintf(when, sizeof when, "%.2g s", seconds);
-  else if (seconds < 90) std::snprintf(when, sizeof when, "%.0f s", seconds);
-  else if (seconds < 5400) std::snprintf(when, sizeof when, "%.0f min", seconds / 60);
-  else std::snprintf(when, sizeof when, "%.1f h", seconds / 3600);
+  const std::string when = duration(c.value("expected_seconds", 0.0));
   std::snprintf(text, sizeof text,
                 "%s: %.4g spheres in %.4g grains, at most %.3g steps; peak memory about %.0f MB; %s %s once started "
                 "(at %.3g sphere-steps/s, %s); %lld jobs queued ahead\n",
                 c.value("experiment", "").c_str(), c.value("spheres", 0.0), c.value("grains", 0.0), c.value("steps", 0.0),
                 c.value("memory_bytes", 0.0) / 1e6,
                 // Without a similar finished run the time is the step bound's: an upper estimate.
-                c.value("steps_fraction", 1.0) < 1 ? "about" : "at most about", when, c.value("sphere_steps_per_second", 0.0),
+                c.value("steps_fraction", 1.0) < 1 ? "about" : "at most about", when.c_str(), c.value("sphere_steps_per_second", 0.0),
                 c.value("rate_basis", "").c_str(), c.value("queued_ahead", 0LL));
   std::string out = text;
   if (c.contains("over_budget")) out += "this server would refuse it: " + c["over_budget"].get<std::string>() + "\n";

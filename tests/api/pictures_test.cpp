@@ -24,10 +24,10 @@ constexpr double kSize = 0.01;  // a (m)
 
 // The reference state of a 4 x 6 x 3 crystal (no pre-strain): every grain at its site, turned like the
 // lattice, with its 12-neighbour interfaces; fields set to the grain index so colours can be traced.
-GrainSnapshot reference_crystal() {
+GrainSnapshot reference_crystal(int grains_x = 4, int rows_z = 6, int layers_y = 3) {
   CrystalGeometry g;
   g.size = kSize;
-  g.grains_x = 4, g.rows_z = 6, g.layers_y = 3;
+  g.grains_x = grains_x, g.rows_z = rows_z, g.layers_y = layers_y;
   const CrystalLattice lattice = build_crystal(g);
   GrainSnapshot s;
   for (const LatticeSite& site : lattice.sites) {
@@ -162,19 +162,7 @@ TEST(SectionPicture, OnlyInterfacesOfTheLayerSlidingOverTwiceTheMeanAreDrawn) {
 }
 
 TEST(SectionPicture, AWideFlatLayerStillHasItsColourBarAndALongTitleIsCut) {
-  CrystalGeometry g;
-  g.size = kSize;
-  g.grains_x = 60, g.rows_z = 1, g.layers_y = 3;
-  const CrystalLattice lattice = build_crystal(g);
-  GrainSnapshot s;
-  for (const LatticeSite& site : lattice.sites) {
-    s.id.push_back(site.id), s.position.push_back(site.position), s.displacement.push_back(Vec3::Zero());
-    s.orientation.push_back(lattice.orientation);
-    for (auto* field : {&s.penetration, &s.penetration_ratio, &s.max_shear_strain, &s.equivalent_strain}) field->push_back(1.0);
-  }
-  for (std::size_t i = 0; i < s.id.size(); ++i)
-    for (std::size_t j = i + 1; j < s.id.size(); ++j)
-      if ((s.position[i] - s.position[j]).norm() < 1.1 * kSize / std::sqrt(2.0)) s.interfaces.push_back({s.id[i], s.id[j]}), s.sliding.push_back(0);
+  const GrainSnapshot s = reference_crystal(60, 1, 3);
   ASSERT_EQ(layer_count(s), 3);
   const std::string svg = section_svg(s, Field::severity, 1, std::string(100000, 'x'));
   EXPECT_EQ(svg.find("height=\"-"), std::string::npos) << "a negative height";

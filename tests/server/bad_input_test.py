@@ -908,15 +908,7 @@ class BadInputTest(unittest.TestCase):
                                         {"Content-Type": "application/json"})
             self.assertEqual(status, 201, body[:300])
             ids.append(json.loads(body)["id"])
-        deadline = time.time() + 60
-        for job in ids:
-            while True:
-                status, _, body = self.http("GET", f"/v1/jobs/{job}")
-                state = json.loads(body)["status"] if status == 200 else None
-                if state in ("succeeded", "failed", "cancelled") or time.time() > deadline:
-                    break
-                time.sleep(0.02)
-            self.assertEqual(state, "succeeded", f"fixture job {job}: {body[:300]!r}")
+        self.wait_finished(ids, time.time() + 60)
         status, _, body = self.http("GET", f"/v1/jobs/{ids[1]}/snapshots")
         snapshots = json.loads(body)["snapshots"] if status == 200 else []
         return ids[0], ids[1], len(snapshots)
