@@ -96,9 +96,12 @@ TEST_F(Users, AccessMatrixLabWide) {
     EXPECT_EQ(as(who, "GET", "/v1/experiments"), known ? 200 : 401);
     EXPECT_EQ(as(who, "GET", "/v1/jobs"), known ? 200 : 401);
     EXPECT_EQ(as(who, "POST", "/v1/jobs", kSpec), known ? 201 : 401);
-    for (const std::string& read : {job, job + "/curve", job + "/snapshots"})
+    for (const std::string& read : {job, job + "/curve", job + "/snapshots", job + "/curve.svg", job + "/archive",
+                                    std::string("/v1/openapi.json"), std::string("/v1/examples")})
       EXPECT_EQ(as(who, "GET", read), known ? 200 : 401) << read;
     EXPECT_EQ(as(who, "GET", job + "/snapshots/0"), known ? 404 : 401);  // a two-cube job has none
+    EXPECT_EQ(as(who, "GET", job + "/snapshots/0.svg"), known ? 404 : 401);
+    for (const char* page : {"/", "/web/app.js", "/web/style.css"}) EXPECT_EQ(as(who, "GET", page), 200) << page;  // it asks
     // Changes: each on a fresh queued job of alice's.
     const std::string queued = "/v1/jobs/" + std::to_string(submit_as_alice());
     EXPECT_EQ(as(who, "POST", queued + "/priority?value=5"), !known ? 401 : may_change ? 200 : 403);
@@ -118,7 +121,8 @@ TEST_F(Users, PrivateServerHidesOthersJobs) {
   serve(true);
   const std::int64_t done = finished_job();
   const std::string job = "/v1/jobs/" + std::to_string(done);
-  for (const std::string& read : {job, job + "/curve", job + "/snapshots", job + "/snapshots/0"}) {
+  for (const std::string& read : {job, job + "/curve", job + "/snapshots", job + "/snapshots/0", job + "/curve.svg",
+                                  job + "/archive", job + "/snapshots/0.svg", job + "/snapshots/0?format=dump"}) {
     EXPECT_EQ(as(Caller::other, "GET", read), 403) << read;
     EXPECT_NE(as(Caller::owner, "GET", read), 403) << read;
     EXPECT_NE(as(Caller::admin, "GET", read), 403) << read;
