@@ -4,9 +4,15 @@
 #include <cmath>
 #include <limits>
 #include <omp.h>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace granulab {
+
+namespace {
+constexpr double kMaxCells = 5e7;  // per map: 400 MB of heights; the reference crystal's have about 11,000
+}  // namespace
 
 Membrane::Membrane(double pressure, double cell, double bridge_span, double bridge_depth)
     : pressure_(pressure), cell_(cell), bridge_span_(bridge_span), bridge_depth_(bridge_depth) {}
@@ -21,6 +27,16 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   for (const Vec3& s : spheres) lo = lo.cwiseMin(s), hi = hi.cwiseMax(s);
   lo.array() -= radius;
   hi.array() += radius;
+  // The cells lie on a fixed lattice (multiples of the cell size), not on the sample's bounding box:
+  // a box that follows the extreme sphere shifts every cell by a little at each update, which flips
+  // cells in and out of the spheres' discs and kept a confined sample oscillating for ever.
+  for (int k = 0; k < 3; ++k) lo[k] = std::floor(lo[k] / cell_) * cell_;
+  // Guard before the threads start (an exception cannot leave a parallel region): a blown-up run's
+  // bounding box would size the maps beyond any memory.
+  const Vec3 cells = (hi - lo) / cell_;
+  if (!(cells.x() * cells.z() < kMaxCells && cells.y() * cells.z() < kMaxCells))
+    throw std::runtime_error("the vacuum bag's height map would need " + std::to_string(cells.x() * cells.z()) +
+                             " cells: the sample has flown apart (an unstable time step?)");
 
   // The two faces normal to one axis share a map over the same plane (one scan gives both outermost
   // spheres); the x pair and the y pair run on separate threads into their own buffers.

@@ -90,10 +90,21 @@ void CrystalSample::update_membrane() {
 }
 
 void CrystalSample::check_finite() const {
+  const auto unstable = [&](const std::string& what) {
+    return std::runtime_error("the simulation became unstable (" + what + ") at step " +
+                              std::to_string(world_.steps()) +
+                              "; a smaller run.time_step_factor helps if the time step is the cause (a sample of a few "
+                              "grains may also just fall apart)");
+  };
   const double ke = world_.kinetic_energy();
   if (!std::isfinite(ke) || !std::isfinite(wall_stress(top_)) || !std::isfinite(wall_stress(bottom_)))
-    throw std::runtime_error("the simulation became unstable (non-finite energy or wall force) at step " +
-                             std::to_string(world_.steps()) + "; try a smaller run.time_step_factor");
+    throw unstable("non-finite energy or wall force");
+  // A blowing-up run flings grains away before its numbers overflow; the bag's height maps (sized by
+  // the sample's bounding box) would then ask for gigabytes. No loading moves a grain further from the
+  // centre than twice the sample's size.
+  const double reach = 2 * (lattice_.extent.norm() + params_.grain.size);
+  for (const Vec3& x : world_.bodies().position)
+    if (!(x.norm() < reach)) throw unstable("a grain left the sample, more than twice its size from its centre");
 }
 
 double CrystalSample::wall_stress(std::size_t w) const {

@@ -644,6 +644,8 @@ std::size_t covered_cells(const std::vector<Vec3>& spheres, double r, int u, int
   Vec3 lo = spheres.front();
   for (const Vec3& s : spheres) lo = lo.cwiseMin(s);
   lo.array() -= r;
+  // The bag's cells lie on the lattice of multiples of the cell size (the same arithmetic as Membrane).
+  for (int k = 0; k < 3; ++k) lo[k] = std::floor(lo[k] / cell) * cell;
   // Discs projected on the face plane, once each (columns of spheres share one).
   std::set<std::pair<double, double>> discs;
   for (const Vec3& s : spheres) discs.emplace(s[u], s[v]);

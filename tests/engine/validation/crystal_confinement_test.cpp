@@ -52,5 +52,37 @@ TEST(CrystalConfinement, IsTheConfinementOfTheCompressionAndRecordsItsApproach) 
   EXPECT_GT(std::abs(sink.rows.front()[1] - p.confining_pressure), 0.01 * p.confining_pressure);
 }
 
+// The README's small quasi-static crystal. The bag's height map used to be laid over the sample's
+// bounding box, which moves with the outermost sphere: every re-detection shifted all cells a little,
+// flipped cells in and out of the spheres' discs, and the bag's kicks kept the sample in a three-update
+// cycle (kinetic/elastic energy 3e-3 to 1.4e-2 for ever, stopped by the 200,000-step cap). On a fixed
+// lattice of cells the sample comes to rest in 9,000 steps.
+TEST(CrystalConfinement, SmallCrystalComesToRestQuickly) {
+  CrystalParams p;
+  p.grain.edge_spheres = 4;
+  p.grains_x = 4, p.rows_z = 8, p.layers_y = 3;
+  p.confining_pressure = 30e3;
+  CrystalCompression crystal(p);
+  const ConfinementReport c = crystal.confine();
+  EXPECT_TRUE(c.converged);
+  EXPECT_LT(c.steps, 20000u);
+}
+
+// A time step beyond the stable one (0.5 t0 on N_e = 10 grains, bench_time_step) blows the sample
+// apart. The run must end with an exception that says so (a failed job), not abort the process: the
+// bag's height maps, sized by the flying grains, used to throw inside a parallel region.
+TEST(CrystalConfinement, AnUnstableTimeStepStopsTheRunWithAMessage) {
+  CrystalParams p;
+  p.grains_x = 4, p.rows_z = 8, p.layers_y = 3;
+  p.time_step_factor = 0.5;
+  CrystalCompression crystal(p);
+  try {
+    crystal.confine();
+    FAIL() << "an unstable run confined";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unstable"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace granulab
