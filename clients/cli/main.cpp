@@ -101,7 +101,7 @@ void print_profile(const fs::path& summary_path) {
     staged += t;
     std::fprintf(stderr, "%-18s %10.3f %12.4f %6.1f%%\n", stage.c_str(), t, 1e3 * t / steps, 100 * t / wall);
   }
-  // The rest: confinement servo, membrane, curve rows, snapshots, file output.
+  // The rest: building the sample, the summary and the files.
   std::fprintf(stderr, "%-18s %10.3f %12.4f %6.1f%%\n", "other", wall - staged, 1e3 * (wall - staged) / steps,
                100 * (wall - staged) / wall);
   std::fprintf(stderr, "%-18s %10.3f %12.4f  (%g steps, %d threads)\n", "total", wall, 1e3 * wall / steps, steps,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -44,7 +45,9 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
   if (!s.begun) s = {true, world.steps(), 0};
   int& good = s.good;
   const std::uint64_t start = s.start;
+  double& control_time = world.stage_times().control;
   while (world.steps() - start < p.max_confinement_steps) {
+    std::optional<StageTimer> control(control_time);
     for (std::size_t w : {top, bottom}) {
       Wall& wall = world.walls()[w];
       const double error = (p0 - sample.wall_stress(w)) * sample.cross_section();  // N; > 0: push in
@@ -53,16 +56,24 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       const double max_speed = 0.1 * world.settings().skin / world.settings().time_step;
       wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);
     }
+    control.reset();
     world.step();
     if ((world.steps() - start) % p.membrane_interval == 0) {
-      sample.check_finite();
+      {
+        StageTimer t(control_time);
+        sample.check_finite();
+      }
       sample.update_membrane();
+      StageTimer t(control_time);
       const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
       const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
                             std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
       const bool quiet = ke <= p.kinetic_tolerance * ee;
       good = walls_ok && quiet ? good + 1 : 0;
-      if (on_check) on_check(world.steps() - start);
+      if (on_check) {
+        StageTimer r(world.stage_times().record);
+        on_check(world.steps() - start);
+      }
       if (good >= p.equilibrium_checks) {
         r.converged = true;
         break;
@@ -71,6 +82,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     // Every step (milliseconds to a second on a crystal): a cancel or a shutdown is seen at once, and a
     // checkpoint may be taken; the whole state is the world and `s`.
     const double servo_steps = 20 * servo_time / world.settings().time_step;
+    StageTimer r(world.stage_times().record);
     if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
     if (safe_point) safe_point();
   }

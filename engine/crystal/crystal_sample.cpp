@@ -85,8 +85,10 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
 }
 
 void CrystalSample::update_membrane() {
-  membrane_.apply(world_.bodies().position, world_.sphere_positions(), grain_.sphere_count(), grain_.radius(),
-                  world_.external_force(), world_.external_torque());
+  const std::vector<Vec3>& spheres = world_.sphere_positions();  // timed as the world's own stage
+  StageTimer t(world_.stage_times().membrane);
+  membrane_.apply(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), world_.external_force(),
+                  world_.external_torque());
 }
 
 void CrystalSample::check_finite() const {

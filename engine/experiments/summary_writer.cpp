@@ -22,6 +22,9 @@ void write_run_stats(SummaryWriter& w, const RunStats& r) {
   w.number("neighbor_rebuild", r.stage_times.rebuild, "s");
   w.number("contact_forces", r.stage_times.contacts, "s");
   w.number("wall_forces", r.stage_times.walls, "s");
+  w.number("membrane", r.stage_times.membrane, "s");
+  w.number("control", r.stage_times.control, "s");
+  w.number("record", r.stage_times.record, "s");
   w.end_group();
 }
 

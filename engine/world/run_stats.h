@@ -2,14 +2,31 @@
 // World that ran it (World::run_stats), so experiments do not copy them field by field.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 
 namespace granulab {
 
-/// Wall-clock seconds spent in each stage of the time step since the world was created (s).
+/// Wall-clock seconds spent in each stage of the time step since the world was created (s): the
+/// world's own stages, and those an experiment runs around them (the bag, the platens' control, the
+/// recording of curve rows and snapshots), so that a profile accounts for the whole loop.
 struct StageTimes {
   double integrate = 0, spheres = 0, rebuild = 0, contacts = 0, walls = 0;
+  double membrane = 0, control = 0, record = 0;
+};
+
+/// Adds the seconds of its own lifetime to `sink` (a StageTimes field).
+class StageTimer {
+ public:
+  explicit StageTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() { sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double& sink_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 struct RunStats {

@@ -11,20 +11,6 @@
 
 namespace granulab {
 
-namespace {
-
-class StageTimer {
- public:
-  explicit StageTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
-  ~StageTimer() { sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-
- private:
-  double& sink_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-}  // namespace
-
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
     : grain_(grain), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");

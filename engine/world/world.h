@@ -64,6 +64,8 @@ class World {
   std::uint64_t steps() const { return steps_; }
   std::uint64_t rebuilds() const { return rebuilds_; }
   const StageTimes& stage_times() const { return times_; }
+  /// For the stages an experiment times around the world's (membrane, control, record).
+  StageTimes& stage_times() { return times_; }
   /// The run's statistics and model numbers as of now; `wall_seconds` is the caller's measure of the run.
   RunStats run_stats(double wall_seconds) const;
   const ContactStats& contact_stats() const { return stats_; }

@@ -216,13 +216,20 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
   while (at.next_row < record_at.size()) {
     // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
     // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
-    const double t = (world.steps() - first) * dt;
-    top.velocity = top.normal * (speed * std::min(1.0, t / ramp_time));
+    {
+      StageTimer c(world.stage_times().control);
+      const double t = (world.steps() - first) * dt;
+      top.velocity = top.normal * (speed * std::min(1.0, t / ramp_time));
+    }
     world.step();
     if ((world.steps() - first) % params_.membrane_interval == 0) {
-      sample_.check_finite();
+      {
+        StageTimer c(world.stage_times().control);
+        sample_.check_finite();
+      }
       sample_.update_membrane();
     }
+    StageTimer recording(world.stage_times().record);
     take_due_snapshots();
     const double strain = strain_now();
     const bool row_due = strain >= record_at[at.next_row] - 1e-12 * params_.max_strain;
