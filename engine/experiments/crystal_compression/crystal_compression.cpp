@@ -64,7 +64,18 @@ std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve,
   return {at, best};
 }
 
-CrystalCompression::CrystalCompression(const CrystalParams& params) : params_(params), sample_(params) {}
+double quasi_static_rate_number(double confining_pressure, double youngs_modulus) {
+  return std::min(0.1, 1.5 * confining_pressure / youngs_modulus);
+}
+
+namespace {
+CrystalParams with_rate(CrystalParams p) {
+  if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
+  return p;
+}
+}  // namespace
+
+CrystalCompression::CrystalCompression(const CrystalParams& params) : params_(with_rate(params)), sample_(params_) {}
 
 CrystalRow CrystalCompression::measure(double strain) const {
   CrystalRow row;
