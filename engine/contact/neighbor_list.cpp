@@ -133,7 +133,7 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
     const std::uint32_t ko_end = shared ? ko + old_pairs_[po].count : 0;
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       while (ko < ko_end && old_keys_[ko] < keys_[k]) ++ko;
-      history_[k] = (ko < ko_end && old_keys_[ko] == keys_[k]) ? old_history_[ko] : Vec3::Zero();
+      history_.set(k, (ko < ko_end && old_keys_[ko] == keys_[k]) ? old_history_.get(ko) : Vec3::Zero());
     }
   }
 }

@@ -39,6 +39,18 @@ inline std::uint64_t wall_pair_key(std::uint32_t wall, std::uint32_t sphere) {
   return std::uint64_t(wall) << 32 | sphere;
 }
 
+/// The shear displacement of every sphere-pair candidate (m), one array per component: the contact loop
+/// then loads and stores each component of consecutive pairs as one vector, where an array of Vec3
+/// (every third double) cost eight scalar loads and a scatter per component.
+struct ShearHistory {
+  std::vector<double> x, y, z;
+
+  std::size_t size() const { return x.size(); }
+  void resize(std::size_t n) { x.resize(n), y.resize(n), z.resize(n); }
+  Vec3 get(std::size_t k) const { return {x[k], y[k], z[k]}; }
+  void set(std::size_t k, const Vec3& v) { x[k] = v.x(), y[k] = v.y(), z[k] = v.z(); }
+};
+
 class NeighborList {
  public:
   /// `offsets`: template body-frame sphere centres; `diameter` of every sphere; `skin` (m).
@@ -52,7 +64,7 @@ class NeighborList {
   double cutoff() const { return cutoff_; }
   const std::vector<BodyPairSpan>& body_pairs() const { return pairs_; }
   const std::vector<std::uint32_t>& keys() const { return keys_; }
-  std::vector<Vec3>& history() { return history_; }
+  ShearHistory& history() { return history_; }
   const std::vector<std::uint64_t>& wall_keys() const { return wall_keys_; }
   std::vector<Vec3>& wall_history() { return wall_history_; }
 
@@ -66,7 +78,9 @@ class NeighborList {
     a.section("neighbors");
     a.values(list.pairs_);
     a.values(list.keys_);
-    a.values(list.history_);
+    a.values(list.history_.x);
+    a.values(list.history_.y);
+    a.values(list.history_.z);
     a.values(list.wall_keys_);
     a.values(list.wall_history_);
   }
@@ -80,7 +94,7 @@ class NeighborList {
 
   std::vector<BodyPairSpan> pairs_, old_pairs_;
   std::vector<std::uint32_t> keys_, old_keys_;
-  std::vector<Vec3> history_, old_history_;
+  ShearHistory history_, old_history_;
   std::vector<std::uint64_t> wall_keys_, old_wall_keys_;
   std::vector<Vec3> wall_history_, old_wall_history_;
 

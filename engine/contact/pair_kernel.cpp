@@ -5,9 +5,8 @@
 namespace granulab {
 
 PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, const std::uint32_t* keys,
-                             std::uint32_t count, Vec3* history_v) {
+                             std::uint32_t count, double* history_x, double* history_y, double* history_z) {
   const double* o = offsets->data();
-  double* h = history_v->data();
   const double a00 = c.ra(0, 0), a01 = c.ra(0, 1), a02 = c.ra(0, 2), a10 = c.ra(1, 0), a11 = c.ra(1, 1),
                a12 = c.ra(1, 2), a20 = c.ra(2, 0), a21 = c.ra(2, 1), a22 = c.ra(2, 2);
   const double b00 = c.rb(0, 0), b01 = c.rb(0, 1), b02 = c.rb(0, 2), b10 = c.rb(1, 0), b11 = c.rb(1, 1),
@@ -44,7 +43,7 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, 
     const double fn = kn * delta - cn * vn;
 
     // Shear history: into the current tangent plane, length kept, then the tangential increment.
-    double hx = h[3 * k], hy = h[3 * k + 1], hz = h[3 * k + 2];
+    double hx = history_x[k], hy = history_y[k], hz = history_z[k];
     const double len2 = hx * hx + hy * hy + hz * hz;
     const double along = hx * nx + hy * ny + hz * nz;
     hx -= along * nx, hy -= along * ny, hz -= along * nz;
@@ -64,7 +63,7 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, 
     hz = slip ? -(gz + ct * tz) * inv_kt : hz;
 
     // Separated pairs forget their history and exert nothing.
-    h[3 * k] = touching ? hx : 0.0, h[3 * k + 1] = touching ? hy : 0.0, h[3 * k + 2] = touching ? hz : 0.0;
+    history_x[k] = touching ? hx : 0.0, history_y[k] = touching ? hy : 0.0, history_z[k] = touching ? hz : 0.0;
     const double Fx = touching ? fn * nx + gx : 0.0, Fy = touching ? fn * ny + gy : 0.0, Fz = touching ? fn * nz + gz : 0.0;
     fx += Fx, fy += Fy, fz += Fz;
     mx += py * Fz - pz * Fy, my += pz * Fx - px * Fz, mz += px * Fy - py * Fx;

@@ -31,8 +31,8 @@ struct PairKernelSums {
 };
 
 /// Contacts between the spheres of grains a and b (template body-frame `offsets`) for the `count`
-/// sphere-pair keys at `keys`, updating their shear histories `history`.
+/// sphere-pair keys at `keys`, updating their shear histories (components at hx, hy, hz).
 PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, const std::uint32_t* keys,
-                             std::uint32_t count, Vec3* history);
+                             std::uint32_t count, double* hx, double* hy, double* hz);
 
 }  // namespace granulab

@@ -140,7 +140,7 @@ void World::sphere_contact_forces() {
   StageTimer t(times_.contacts);
   const auto& pairs = neighbors_.body_pairs();
   const auto& keys = neighbors_.keys();
-  Vec3* history = neighbors_.history().data();
+  ShearHistory& history = neighbors_.history();
   const Vec3* offsets = grain_.offsets().data();
   const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
   const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
@@ -163,7 +163,8 @@ void World::sphere_contact_forces() {
     c.rb = bodies_.orientation[gp.b].toRotationMatrix();
     c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
     c.dw = wa - wb;
-    const PairKernelSums s = pair_contacts(c, offsets, keys.data() + gp.first, gp.count, history + gp.first);
+    const PairKernelSums s = pair_contacts(c, offsets, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
+                                             history.y.data() + gp.first, history.z.data() + gp.first);
     pair_force_[p] = s.force;
     pair_torque_a_[p] = s.moment;
     pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);

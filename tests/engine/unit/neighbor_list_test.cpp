@@ -101,7 +101,7 @@ TEST(NeighborList, RebuildCarriesHistoryOfSurvivingPairs) {
   const std::set<PairId> before = listed_pairs(list);
   for (const BodyPairSpan& gp : list.body_pairs())
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k)
-      list.history()[k] = tag({gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])});
+      list.history().set(k, tag({gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])}));
 
   std::mt19937 rng(11);
   std::normal_distribution<double> jiggle(0, 0.3 * s.grain.diameter());
@@ -116,10 +116,10 @@ TEST(NeighborList, RebuildCarriesHistoryOfSurvivingPairs) {
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       const PairId id{gp.a, gp.b, key_first(list.keys()[k]), key_second(list.keys()[k])};
       if (before.count(id)) {
-        EXPECT_EQ(list.history()[k], tag(id));
+        EXPECT_EQ(list.history().get(k), tag(id));
         ++kept;
       } else {
-        EXPECT_EQ(list.history()[k], Vec3::Zero());
+        EXPECT_EQ(list.history().get(k), Vec3::Zero());
         ++fresh;
       }
     }
