@@ -4,9 +4,13 @@
 
 namespace granulab {
 
-PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, const std::uint32_t* keys,
+OffsetArrays::OffsetArrays(const std::vector<Vec3>& offsets) {
+  for (const Vec3& o : offsets) x.push_back(o.x()), y.push_back(o.y()), z.push_back(o.z());
+}
+
+PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offsets, const std::uint32_t* keys,
                              std::uint32_t count, double* history_x, double* history_y, double* history_z) {
-  const double* o = offsets->data();
+  const double *ox = offsets.x.data(), *oy = offsets.y.data(), *oz = offsets.z.data();
   const double a00 = c.ra(0, 0), a01 = c.ra(0, 1), a02 = c.ra(0, 2), a10 = c.ra(1, 0), a11 = c.ra(1, 1),
                a12 = c.ra(1, 2), a20 = c.ra(2, 0), a21 = c.ra(2, 1), a22 = c.ra(2, 2);
   const double b00 = c.rb(0, 0), b01 = c.rb(0, 1), b02 = c.rb(0, 2), b10 = c.rb(1, 0), b11 = c.rb(1, 1),
@@ -21,9 +25,9 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, 
 
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, contacts, sliding)
   for (std::uint32_t k = 0; k < count; ++k) {
-    const std::uint32_t i = 3 * (keys[k] >> 16), j = 3 * (keys[k] & 0xffff);
+    const std::uint32_t i = keys[k] >> 16, j = keys[k] & 0xffff;
     // Sphere i of a relative to x_a, sphere j of b relative to x_b, both in the world frame.
-    const double oix = o[i], oiy = o[i + 1], oiz = o[i + 2], ojx = o[j], ojy = o[j + 1], ojz = o[j + 2];
+    const double oix = ox[i], oiy = oy[i], oiz = oz[i], ojx = ox[j], ojy = oy[j], ojz = oz[j];
     const double ax = a00 * oix + a01 * oiy + a02 * oiz, ay = a10 * oix + a11 * oiy + a12 * oiz,
                  az = a20 * oix + a21 * oiy + a22 * oiz;
     const double bx = b00 * ojx + b01 * ojy + b02 * ojz, by = b10 * ojx + b11 * ojy + b12 * ojz,

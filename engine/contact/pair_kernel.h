@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "engine/contact/contact_law.h"
 
@@ -30,9 +31,17 @@ struct PairKernelSums {
   double overlap = 0, energy = 0;
 };
 
+/// The template's body-frame sphere offsets (m), one array per component, indexed by local sphere id:
+/// the contact loop gathers them per sphere pair, which vectorises on the component arrays (an array of
+/// Vec3 was read with scalar loads).
+struct OffsetArrays {
+  std::vector<double> x, y, z;
+  explicit OffsetArrays(const std::vector<Vec3>& offsets);
+};
+
 /// Contacts between the spheres of grains a and b (template body-frame `offsets`) for the `count`
 /// sphere-pair keys at `keys`, updating their shear histories (components at hx, hy, hz).
-PairKernelSums pair_contacts(const PairKernelConstants& c, const Vec3* offsets, const std::uint32_t* keys,
+PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offsets, const std::uint32_t* keys,
                              std::uint32_t count, double* hx, double* hy, double* hz);
 
 }  // namespace granulab

@@ -12,7 +12,7 @@
 namespace granulab {
 
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
-    : grain_(grain), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
+    : grain_(grain), offset_arrays_(grain.offsets()), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
   for (const Vec3& o : grain_.offsets()) max_offset_ = std::max(max_offset_, o.norm());
 }
@@ -141,7 +141,6 @@ void World::sphere_contact_forces() {
   const auto& pairs = neighbors_.body_pairs();
   const auto& keys = neighbors_.keys();
   ShearHistory& history = neighbors_.history();
-  const Vec3* offsets = grain_.offsets().data();
   const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
   const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size());
@@ -163,7 +162,7 @@ void World::sphere_contact_forces() {
     c.rb = bodies_.orientation[gp.b].toRotationMatrix();
     c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
     c.dw = wa - wb;
-    const PairKernelSums s = pair_contacts(c, offsets, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
+    const PairKernelSums s = pair_contacts(c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
                                              history.y.data() + gp.first, history.z.data() + gp.first);
     pair_force_[p] = s.force;
     pair_torque_a_[p] = s.moment;

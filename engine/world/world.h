@@ -12,6 +12,7 @@
 #include "engine/boundary/wall.h"
 #include "engine/contact/contact_law.h"
 #include "engine/contact/neighbor_list.h"
+#include "engine/contact/pair_kernel.h"
 #include "engine/dynamics/bodies.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/world/run_stats.h"
@@ -94,6 +95,7 @@ class World {
   void wall_forces();
 
   GrainTemplate grain_;
+  OffsetArrays offset_arrays_;  // grain_'s offsets for the contact loop
   ContactLaw law_;
   WorldSettings settings_;
   Bodies bodies_;

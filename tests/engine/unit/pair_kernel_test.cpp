@@ -47,7 +47,7 @@ TEST(PairKernel, MatchesScalarContactLaw) {
   std::vector<Vec3> kernel_hist = hist, scalar_hist = hist;
   std::vector<double> hx(n), hy(n), hz(n);  // the kernel's layout: one array per component
   for (int k = 0; k < n; ++k) hx[k] = hist[k].x(), hy[k] = hist[k].y(), hz[k] = hist[k].z();
-  const PairKernelSums s = pair_contacts(c, offsets.data(), keys.data(), n, hx.data(), hy.data(), hz.data());
+  const PairKernelSums s = pair_contacts(c, OffsetArrays(offsets), keys.data(), n, hx.data(), hy.data(), hz.data());
   for (int k = 0; k < n; ++k) kernel_hist[k] = Vec3(hx[k], hy[k], hz[k]);
 
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
