@@ -97,6 +97,9 @@ TEST(CrystalCompression, KnockoutsRemoveGrainsAndSnapshotsDescribeThem) {
   p.knockout_regions = {KnockoutRegion{0, 0, 0.8}};
   p.max_strain = 5e-4;
   p.snapshot_strains = {0.0, 5e-4};
+  // This notched sample does not come to rest under the bag (measured: still moving after 180,000 steps,
+  // when one grain left it); the knock-outs and snapshots are tested after a shorter confinement.
+  p.max_confinement_steps = 30000;
   CrystalCompression experiment(p);
   const std::size_t grains = experiment.world().bodies().size();
   EXPECT_EQ(grains + experiment.lattice().knocked_out, 96u);
