@@ -11,7 +11,9 @@
 namespace granulab {
 
 namespace {
-constexpr double kMaxCells = 5e7;  // per map: 400 MB of heights; the reference crystal's have about 11,000
+// Per map; a cell costs about 50 bytes of scratch and both maps are built at once, so 1 GB in all. The
+// reference crystal's maps have about 11,000 cells, the largest crystal the spec admits about 3e6.
+constexpr double kMaxCells = 1e7;
 }  // namespace
 
 Membrane::Membrane(double pressure, double cell, double bridge_span, double bridge_depth)
@@ -34,7 +36,7 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   // Guard before the threads start (an exception cannot leave a parallel region): a blown-up run's
   // bounding box would size the maps beyond any memory.
   const Vec3 cells = (hi - lo) / cell_;
-  if (!(cells.x() * cells.z() < kMaxCells && cells.y() * cells.z() < kMaxCells))
+  if (!lo.allFinite() || !hi.allFinite() || !(cells.x() * cells.z() < kMaxCells && cells.y() * cells.z() < kMaxCells))
     throw std::runtime_error("the vacuum bag's height map would need " + std::to_string(cells.x() * cells.z()) +
                              " cells: the sample has flown apart (an unstable time step?)");
 

@@ -64,14 +64,16 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
         sample.check_finite();
       }
       sample.update_membrane();
-      StageTimer t(control_time);
-      const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
-      const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
-                            std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
-      const bool quiet = ke <= p.kinetic_tolerance * ee;
-      good = walls_ok && quiet ? good + 1 : 0;
+      {
+        StageTimer t(control_time);
+        const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
+        const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
+                              std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
+        const bool quiet = ke <= p.kinetic_tolerance * ee;
+        good = walls_ok && quiet ? good + 1 : 0;
+      }
       if (on_check) {
-        StageTimer r(world.stage_times().record);
+        StageTimer recording(world.stage_times().record);
         on_check(world.steps() - start);
       }
       if (good >= p.equilibrium_checks) {
@@ -82,7 +84,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     // Every step (milliseconds to a second on a crystal): a cancel or a shutdown is seen at once, and a
     // checkpoint may be taken; the whole state is the world and `s`.
     const double servo_steps = 20 * servo_time / world.settings().time_step;
-    StageTimer r(world.stage_times().record);
+    StageTimer recording(world.stage_times().record);
     if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
     if (safe_point) safe_point();
   }

@@ -276,7 +276,8 @@ async function submitView() {
       const unit = f.unit && f.unit !== "-" ? " (" + f.unit + ")" : "";
       const range = f.minimum !== undefined ? " [" + f.minimum + ", " + f.maximum + "]" : f.choices ? " one of " + f.choices.join(", ") : "";
       rows.push(el("label", { for: "f-" + f.field }, f.field),
-        el("input", { id: "f-" + f.field, name: f.field, value: text, "data-default": JSON.stringify(f.default) }),
+        el("input", { id: "f-" + f.field, name: f.field, value: text, "data-default": JSON.stringify(f.default),
+          "data-default-text": value !== undefined ? "" : text }),
         el("span", { class: "meaning" }, f.meaning + unit + range),
         el("div", { class: "field-error", id: "e-" + f.field, hidden: true }));
     }
@@ -327,6 +328,9 @@ async function submitView() {
       const input = document.getElementById("f-" + f.field);
       let value = input.value.trim();
       if (value === "" && f.type !== "string") continue;  // left empty: the default
+      // Left at the shown default: let the server fill it, since some defaults follow other fields
+      // (loading.rate_number = 1.5 p0/E, loading.wall_friction = material.friction).
+      if (input.dataset.defaultText && value === input.dataset.defaultText) continue;
       if (f.type === "number" || f.type === "integer") value = Number(value);
       else if (f.type.startsWith("array")) {
         try { value = JSON.parse(value); } catch (e) { return showError(f.field, f.field + ": not a JSON list"); }

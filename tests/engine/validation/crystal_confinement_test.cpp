@@ -52,7 +52,7 @@ TEST(CrystalConfinement, IsTheConfinementOfTheCompressionAndRecordsItsApproach) 
   EXPECT_GT(std::abs(sink.rows.front()[1] - p.confining_pressure), 0.01 * p.confining_pressure);
 }
 
-// The README's small quasi-static crystal. The bag's height map used to be laid over the sample's
+// The small crystal of docs/results.md, "Quasi-static rate". The bag's height map used to be laid over the sample's
 // bounding box, which moves with the outermost sphere: every re-detection shifted all cells a little,
 // flipped cells in and out of the spheres' discs, and the bag's kicks kept the sample in a three-update
 // cycle (kinetic/elastic energy 3e-3 to 1.4e-2 for ever, stopped by the 200,000-step cap). On a fixed
