@@ -281,10 +281,13 @@ TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
     "output": {"curve_points": 100, "snapshot_strains": [0.0, 0.01, 0.02]}})");
   const std::string whole = (dir_ / "whole").string(), out = (dir_ / "out").string(), cdir = (dir_ / "ck").string();
   ASSERT_EQ(run({"run", spec.string(), "--out", whole, "--threads", "1", "--quiet"}, std::chrono::seconds(120)).exit_code, 0);
-  // Killed once a checkpoint exists and the curve has moved past it.
+  // Killed once a checkpoint exists and the curve has moved past it. A checkpoint is written to a .tmp
+  // file and renamed: only a renamed one counts (a kill during the first write left nothing to resume).
   const auto checkpointed = [&] {
-    if (!fs::exists(cdir) || fs::is_empty(cdir)) return false;
-    return lines_of(slurp(fs::path(out) / "curve.csv")).size() > 40;
+    if (!fs::exists(cdir)) return false;
+    bool complete = false;
+    for (const auto& entry : fs::directory_iterator(cdir)) complete = complete || entry.path().extension() == ".bin";
+    return complete && lines_of(slurp(fs::path(out) / "curve.csv")).size() > 40;
   };
   const RunResult killed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir,
                                 "--checkpoint-seconds", "1"},
