@@ -52,15 +52,21 @@ TEST(CrystalConfinement, IsTheConfinementOfTheCompressionAndRecordsItsApproach) 
   EXPECT_GT(std::abs(sink.rows.front()[1] - p.confining_pressure), 0.01 * p.confining_pressure);
 }
 
+// 4 x 8 x 3 grains of N_e = 4: confined in a second or two.
+CrystalParams small_crystal() {
+  CrystalParams p;
+  p.grain.edge_spheres = 4;
+  p.grains_x = 4, p.rows_z = 8, p.layers_y = 3;
+  return p;
+}
+
 // The small crystal of docs/results.md, "Quasi-static rate". The bag's height map used to be laid over the sample's
 // bounding box, which moves with the outermost sphere: every re-detection shifted all cells a little,
 // flipped cells in and out of the spheres' discs, and the bag's kicks kept the sample in a three-update
 // cycle (kinetic/elastic energy 3e-3 to 1.4e-2 for ever, stopped by the 200,000-step cap). On a fixed
 // lattice of cells the sample comes to rest in 9,000 steps.
 TEST(CrystalConfinement, SmallCrystalComesToRestQuickly) {
-  CrystalParams p;
-  p.grain.edge_spheres = 4;
-  p.grains_x = 4, p.rows_z = 8, p.layers_y = 3;
+  CrystalParams p = small_crystal();
   p.confining_pressure = 30e3;
   CrystalCompression crystal(p);
   const ConfinementReport c = crystal.confine();
@@ -74,9 +80,7 @@ TEST(CrystalConfinement, SmallCrystalComesToRestQuickly) {
 // (At 0.5 the blow-up is marginal: one build blew up at step 8,800, another ran 200,000 steps. At 1.0
 // every crystal measured blows up within a few thousand steps; bench_time_step.)
 TEST(CrystalConfinement, AnUnstableTimeStepStopsTheRunWithAMessage) {
-  CrystalParams p;
-  p.grain.edge_spheres = 4;
-  p.grains_x = 4, p.rows_z = 8, p.layers_y = 3;
+  CrystalParams p = small_crystal();
   p.time_step_factor = 1.0;
   CrystalCompression crystal(p);
   try {
