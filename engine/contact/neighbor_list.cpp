@@ -7,36 +7,124 @@
 
 namespace granulab {
 
+namespace {
+constexpr std::uint32_t kNoPair = 0xffffffffu;
+// A drifted pair triggers an update; every pair beyond this share of the skin is searched in the same
+// update, so that pairs drifting together are not searched one update each (each update also copies
+// every block once).
+constexpr double kRefreshShare = 0.5;
+}  // namespace
+
 NeighborList::NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin)
     : offsets_(offsets), radius_(diameter / 2), skin_(skin), cutoff_(diameter + skin) {
   if (!(skin > 0)) throw std::invalid_argument("neighbour skin must be > 0");
-  double r = 0;
-  for (const Vec3& o : offsets_) r = std::max(r, o.norm());
-  grain_cutoff_ = 2 * r + cutoff_;
+  reach_ = 0;
+  for (const Vec3& o : offsets_) reach_ = std::max(reach_, o.norm());
+  grain_cutoff_ = 2 * reach_ + cutoff_;
+  // A sphere diameter of margin: a grain crosses half of it in thousands of steps under the platens,
+  // and it adds no new neighbours to a face-to-face packing (the next shell is ~2 d further out).
+  margin_ = std::max(diameter, 2 * skin);
   grid_ = TemplateGrid(offsets_, cutoff_);
+  for (const Vec3& o : offsets_) offset_x_.push_back(o.x()), offset_y_.push_back(o.y()), offset_z_.push_back(o.z());
 }
 
-void NeighborList::rebuild(const Bodies& bodies, const std::vector<Vec3>& sphere_positions,
-                           const std::vector<Wall>& walls) {
-  std::swap(pairs_, old_pairs_);
-  std::swap(keys_, old_keys_);
-  std::swap(history_, old_history_);
-  std::swap(wall_keys_, old_wall_keys_);
-  std::swap(wall_history_, old_wall_history_);
-  broad_phase(bodies);
-  narrow_phase(bodies);
-  wall_phase(bodies, sphere_positions, walls);
+NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall>& walls) {
+  NeighborUpdate u;
+  const std::size_t n_old = pairs_.size();
+  if (!built_ || broad_position_.size() != bodies.size() || broad_phase_due(bodies)) {
+    std::swap(pairs_, old_pairs_);
+    std::swap(frames_, old_frames_);
+    std::swap(keys_, old_keys_);
+    std::swap(history_, old_history_);
+    if (!built_) old_pairs_.clear();
+    broad_phase(bodies);
+    // Every pair is searched (this happens once per half margin of travel); pairs that were already
+    // watched carry their histories over.
+    old_index_.assign(pairs_.size(), kNoPair);
+    std::size_t po = 0;
+    for (std::size_t p = 0; p < pairs_.size(); ++p) {
+      const BodyPairSpan& gp = pairs_[p];
+      while (po < old_pairs_.size() &&
+             (old_pairs_[po].a < gp.a || (old_pairs_[po].a == gp.a && old_pairs_[po].b < gp.b)))
+        ++po;
+      if (po < old_pairs_.size() && old_pairs_[po].a == gp.a && old_pairs_[po].b == gp.b) old_index_[p] = std::uint32_t(po);
+    }
+    search_.assign(pairs_.size(), 1);
+    frames_.resize(pairs_.size());
+    search_and_merge(bodies, old_index_);
+    broad_position_ = bodies.position;
+    u.broad = true;
+    u.pairs_searched = std::uint32_t(pairs_.size());
+    built_ = true;
+  } else if (n_old > 0 && mark_drifted(bodies, skin_) > 0) {
+    u.pairs_searched = mark_drifted(bodies, kRefreshShare * skin_);
+    std::swap(pairs_, old_pairs_);
+    std::swap(frames_, old_frames_);
+    std::swap(keys_, old_keys_);
+    std::swap(history_, old_history_);
+    pairs_ = old_pairs_;
+    frames_ = old_frames_;
+    old_index_.resize(n_old);
+    for (std::size_t p = 0; p < n_old; ++p) old_index_[p] = std::uint32_t(p);
+    search_and_merge(bodies, old_index_);
+  }
+  if (u.broad || wall_phase_due(bodies, walls)) {
+    wall_phase(bodies, walls);
+    u.walls = true;
+  }
+  return u;
 }
 
-// Grain pairs whose centres are closer than grain_cutoff_, from a cell grid of that size:
+bool NeighborList::broad_phase_due(const Bodies& bodies) const {
+  const double limit2 = margin_ * margin_ / 4;
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if ((bodies.position[b] - broad_position_[b]).squaredNorm() >= limit2) return true;
+  return false;
+}
+
+// A sphere's distance to a plane wall changes by at most the normal part of the grain's and the wall's
+// relative displacement plus r_max |R - R0| = 2 r_max sin(theta/2) for the grain's rotation theta.
+bool NeighborList::wall_phase_due(const Bodies& bodies, const std::vector<Wall>& walls) const {
+  if (wall_point_.size() != walls.size() || wall_body_position_.size() != bodies.size()) return true;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const double rot = 2 * reach_ * (wall_body_orientation_[b].conjugate() * bodies.orientation[b]).vec().norm();
+    const Vec3 dx = bodies.position[b] - wall_body_position_[b];
+    for (std::size_t w = 0; w < walls.size(); ++w)
+      if (std::abs((dx - (walls[w].point - wall_point_[w])).dot(walls[w].normal)) + rot >= skin_) return true;
+  }
+  return false;
+}
+
+// Drift of grain pair (a, b) since its search: the largest displacement of a sphere of b in a's frame,
+// bounded by |t - t_ref| + r_max |R - R_ref| (|R - R_ref| = 2 sin(theta/2), theta the angle of
+// q_ref^-1 q).
+std::uint32_t NeighborList::mark_drifted(const Bodies& bodies, double threshold) {
+  const long n_pairs = long(pairs_.size());
+  search_.resize(n_pairs);
+  std::uint32_t marked = 0;
+#pragma omp parallel for schedule(static) reduction(+ : marked) if (n_pairs >= 512)
+  for (long p = 0; p < n_pairs; ++p) {
+    const BodyPairSpan& gp = pairs_[p];
+    const Quat qa_inv = bodies.orientation[gp.a].conjugate();
+    const Vec3 t = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
+    const Quat dq = frames_[p].q.conjugate() * (qa_inv * bodies.orientation[gp.b]);
+    const double drift = (t - frames_[p].t).norm() + 2 * reach_ * dq.vec().norm();
+    search_[p] = drift >= threshold;
+    marked += search_[p];
+  }
+  return marked;
+}
+
+// Grain pairs whose centres are closer than the broad cutoff, from a cell grid of that size:
 // each grain only looks at the 27 cells around its own.
 void NeighborList::broad_phase(const Bodies& bodies) {
   pairs_.clear();
   const std::size_t n = bodies.size();
   if (n < 2) return;
+  const double broad = broad_cutoff();
   Vec3 lo = bodies.position.front();
   for (const Vec3& x : bodies.position) lo = lo.cwiseMin(x);
-  const double inv = 1 / grain_cutoff_;
+  const double inv = 1 / broad;
   auto cell = [&](const Vec3& x) {
     const Vec3 f = (x - lo) * inv;
     return Eigen::Vector3i(int(f.x()), int(f.y()), int(f.z()));
@@ -49,7 +137,7 @@ void NeighborList::broad_phase(const Bodies& bodies) {
   sorted.resize(n);
   for (std::size_t b = 0; b < n; ++b) sorted[b] = {pack(cell(bodies.position[b])), BodyId(b)};
   std::sort(sorted.begin(), sorted.end());
-  const double cut2 = grain_cutoff_ * grain_cutoff_;
+  const double cut2 = broad * broad;
   for (std::size_t a = 0; a < n; ++a) {
     const Eigen::Vector3i c = cell(bodies.position[a]);
     for (int dx = -1; dx <= 1; ++dx)
@@ -71,15 +159,23 @@ void NeighborList::broad_phase(const Bodies& bodies) {
             [](const BodyPairSpan& p, const BodyPairSpan& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
 }
 
-void NeighborList::narrow_phase(const Bodies& bodies) {
+// The sphere pairs of the marked grain pairs (search_), then the new layout: a searched pair merges its
+// new sorted block with its old one (old_index: the pair's index in old_pairs_, or kNoPair) to carry the
+// histories; the others keep their block and history as they were.
+//
+// Only b's spheres on the side facing a are looked up: with u the unit vector from x_a to x_b (a's frame),
+// every sphere of a has u . o_i <= h_a = max_i u . o_i, so a sphere of b can be within the cutoff of one
+// only if u . p_j <= h_a + cutoff, i.e. (R_ab^T u) . o_j <= h_a + cutoff - |t_ab|. Two dot products per
+// sphere, vectorised over the component arrays, spare most grid lookups of face-to-face neighbours (the
+// candidates found are exactly the same).
+void NeighborList::search_and_merge(const Bodies& bodies, const std::vector<std::uint32_t>& old_index) {
   const long n_pairs = long(pairs_.size());
   const int n_threads = omp_get_max_threads();
   thread_keys_.resize(n_threads);
   pair_thread_.resize(n_pairs);
   pair_offset_.resize(n_pairs);
-  double reach = 0;
-  for (const Vec3& o : offsets_) reach = std::max(reach, o.norm());
-  reach += cutoff_;
+  const std::size_t n_spheres = offsets_.size();
+  const double *ox = offset_x_.data(), *oy = offset_y_.data(), *oz = offset_z_.data();
 
 #pragma omp parallel
   {
@@ -89,20 +185,36 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
 #pragma omp for schedule(dynamic, 4)
     for (long p = 0; p < n_pairs; ++p) {
       BodyPairSpan& gp = pairs_[p];
-      const Quat qa_inv = bodies.orientation[gp.a].conjugate();
-      const Mat3 r_ab = (qa_inv * bodies.orientation[gp.b]).toRotationMatrix();
-      const Vec3 t_ab = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
-      const std::size_t begin = out.size();
-      for (std::size_t j = 0; j < offsets_.size(); ++j) {
-        const Vec3 pj = r_ab * offsets_[j] + t_ab;
-        if (pj.squaredNorm() > reach * reach) continue;
-        grid_.for_each_near(pj, cutoff_, [&](LocalSphereId i) {
-          out.push_back(sphere_pair_key(i, LocalSphereId(j)));
-        });
+      if (!search_[p]) {
+        gp.count = old_pairs_[old_index[p]].count;
+        continue;
       }
-      std::sort(out.begin() + begin, out.end());
+      const Quat qa_inv = bodies.orientation[gp.a].conjugate();
+      const Quat q_ab = qa_inv * bodies.orientation[gp.b];
+      const Vec3 t_ab = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
+      frames_[p] = {t_ab, q_ab};
+      const std::size_t begin = out.size();
       pair_thread_[p] = std::uint32_t(t);
       pair_offset_[p] = std::uint32_t(begin);
+      const double dist = t_ab.norm();
+      if (dist >= grain_cutoff_) {  // watched only: no sphere of b within the cutoff of one of a
+        gp.count = 0;
+        continue;
+      }
+      const Mat3 r_ab = q_ab.toRotationMatrix();
+      const Vec3 u = dist > 0 ? Vec3(t_ab / dist) : Vec3::UnitX();
+      const Vec3 ub = r_ab.transpose() * u;
+      double h_a = -1e300;
+#pragma omp simd reduction(max : h_a)
+      for (std::size_t i = 0; i < n_spheres; ++i) h_a = std::max(h_a, u.x() * ox[i] + u.y() * oy[i] + u.z() * oz[i]);
+      // Without a direction (coincident centres) every sphere is looked up.
+      const double limit = dist > 0 ? h_a + cutoff_ - dist : 1e300;
+      for (std::size_t j = 0; j < n_spheres; ++j) {
+        if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
+        const Vec3 pj = r_ab * offsets_[j] + t_ab;
+        grid_.for_each_near(pj, cutoff_, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+      }
+      std::sort(out.begin() + begin, out.end());
       gp.count = std::uint32_t(out.size() - begin);
     }
   }
@@ -111,26 +223,23 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
   for (BodyPairSpan& gp : pairs_) gp.first = total, total += gp.count;
   keys_.resize(total);
   history_.resize(total);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16)
   for (long p = 0; p < n_pairs; ++p) {
     const BodyPairSpan& gp = pairs_[p];
+    const std::uint32_t o = old_index[p];
+    const std::uint32_t ko_begin = o != kNoPair ? old_pairs_[o].first : 0;
+    const std::uint32_t ko_end = o != kNoPair ? ko_begin + old_pairs_[o].count : 0;
+    if (!search_[p]) {
+      std::copy(old_keys_.begin() + ko_begin, old_keys_.begin() + ko_end, keys_.begin() + gp.first);
+      std::copy(old_history_.x.begin() + ko_begin, old_history_.x.begin() + ko_end, history_.x.begin() + gp.first);
+      std::copy(old_history_.y.begin() + ko_begin, old_history_.y.begin() + ko_end, history_.y.begin() + gp.first);
+      std::copy(old_history_.z.begin() + ko_begin, old_history_.z.begin() + ko_end, history_.z.begin() + gp.first);
+      continue;
+    }
     const std::uint32_t* src = thread_keys_[pair_thread_[p]].data() + pair_offset_[p];
     std::copy(src, src + gp.count, keys_.begin() + gp.first);
-  }
-  // Drop grain pairs with no sphere pair: they cost a loop iteration every step for nothing.
-  pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(), [](const BodyPairSpan& gp) { return gp.count == 0; }),
-               pairs_.end());
-
-  // Carry history: walk old and new grain pairs in (a, b) order, and inside a shared grain pair
-  // walk both sorted key blocks.
-  std::size_t po = 0;
-  for (const BodyPairSpan& gp : pairs_) {
-    while (po < old_pairs_.size() &&
-           (old_pairs_[po].a < gp.a || (old_pairs_[po].a == gp.a && old_pairs_[po].b < gp.b)))
-      ++po;
-    const bool shared = po < old_pairs_.size() && old_pairs_[po].a == gp.a && old_pairs_[po].b == gp.b;
-    std::uint32_t ko = shared ? old_pairs_[po].first : 0;
-    const std::uint32_t ko_end = shared ? ko + old_pairs_[po].count : 0;
+    // Walk both sorted blocks: a sphere pair that stays a candidate keeps its history.
+    std::uint32_t ko = ko_begin;
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       while (ko < ko_end && old_keys_[ko] < keys_[k]) ++ko;
       history_.set(k, (ko < ko_end && old_keys_[ko] == keys_[k]) ? old_history_.get(ko) : Vec3::Zero());
@@ -138,21 +247,20 @@ void NeighborList::narrow_phase(const Bodies& bodies) {
   }
 }
 
-void NeighborList::wall_phase(const Bodies& bodies, const std::vector<Vec3>& sphere_positions,
-                              const std::vector<Wall>& walls) {
+// Sphere centres within radius + skin of a wall, computed from the poses for the grains within reach.
+void NeighborList::wall_phase(const Bodies& bodies, const std::vector<Wall>& walls) {
+  std::swap(wall_keys_, old_wall_keys_);
+  std::swap(wall_history_, old_wall_history_);
   wall_keys_.clear();
   const std::size_t per_body = offsets_.size();
-  double reach = 0;
-  for (const Vec3& o : offsets_) reach = std::max(reach, o.norm());
   const double sphere_reach = radius_ + skin_;
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (std::size_t b = 0; b < bodies.size(); ++b) {
-      if (walls[w].distance(bodies.position[b]) > reach + sphere_reach) continue;
-      for (std::size_t i = 0; i < per_body; ++i) {
-        const std::size_t s = b * per_body + i;
-        if (walls[w].distance(sphere_positions[s]) < sphere_reach)
-          wall_keys_.push_back(wall_pair_key(std::uint32_t(w), std::uint32_t(s)));
-      }
+      if (walls[w].distance(bodies.position[b]) > reach_ + sphere_reach) continue;
+      const Mat3 r = bodies.orientation[b].toRotationMatrix();
+      for (std::size_t i = 0; i < per_body; ++i)
+        if (walls[w].distance(bodies.position[b] + r * offsets_[i]) < sphere_reach)
+          wall_keys_.push_back(wall_pair_key(std::uint32_t(w), std::uint32_t(b * per_body + i)));
     }
   }
   wall_history_.resize(wall_keys_.size());
@@ -162,6 +270,10 @@ void NeighborList::wall_phase(const Bodies& bodies, const std::vector<Vec3>& sph
     wall_history_[k] =
         (ko < old_wall_keys_.size() && old_wall_keys_[ko] == wall_keys_[k]) ? old_wall_history_[ko] : Vec3::Zero();
   }
+  wall_body_position_ = bodies.position;
+  wall_body_orientation_ = bodies.orientation;
+  wall_point_.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) wall_point_[w] = walls[w].point;
 }
 
 }  // namespace granulab

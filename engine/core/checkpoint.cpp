@@ -5,7 +5,7 @@ namespace granulab {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'N', 'L', 'C', 'K', 'P', 'T'};
-constexpr std::uint32_t kVersion = 3;  // raise when any saved layout changes (3: stage times, shear history per component)
+constexpr std::uint32_t kVersion = 4;  // raise when any saved layout changes (3: stage times, shear history per component; 4: candidates per grain pair)
 
 // FNV-1a, 64 bits: catches truncation and bit rot; not a defence against tampering (the store is trusted).
 std::uint64_t checksum(const char* data, std::size_t n) {

@@ -16,6 +16,8 @@ void write_run_stats(SummaryWriter& w, const RunStats& r) {
   w.number("normal_stiffness", r.normal_stiffness, "N/m");
   w.count("spheres_per_face", std::uint64_t(r.spheres_per_face));
   w.count("neighbor_rebuilds", r.rebuilds);
+  w.count("neighbor_pair_searches", r.pair_searches);
+  w.number("mean_candidates", r.mean_candidates, "-");
   w.begin_group("stage_seconds");
   w.number("integrate", r.stage_times.integrate, "s");
   w.number("sphere_positions", r.stage_times.spheres, "s");

@@ -14,7 +14,6 @@ namespace granulab {
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
     : grain_(grain), offset_arrays_(grain.offsets()), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
-  for (const Vec3& o : grain_.offsets()) max_offset_ = std::max(max_offset_, o.norm());
 }
 
 RunStats World::run_stats(double wall_seconds) const {
@@ -23,6 +22,8 @@ RunStats World::run_stats(double wall_seconds) const {
   r.spheres = sphere_count();
   r.steps = steps_;
   r.rebuilds = rebuilds_;
+  r.pair_searches = pair_searches_;
+  r.mean_candidates = steps_ > 0 ? candidate_steps_ / double(steps_) : 0.0;
   r.time_step = settings_.time_step;
   r.sphere_diameter = grain_.diameter();
   r.normal_stiffness = law_.normal_stiffness;
@@ -40,14 +41,14 @@ BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion mot
   spheres_current_ = false;
   external_force_.resize(bodies_.size(), Vec3::Zero());
   external_torque_.resize(bodies_.size(), Vec3::Zero());
-  built_ = false;
+  neighbors_.invalidate();
   return id;
 }
 
 std::size_t World::add_wall(const Wall& wall) {
   walls_.push_back(wall);
   walls_.back().normal.normalize();
-  built_ = false;
+  neighbors_.invalidate();
   return walls_.size() - 1;
 }
 
@@ -71,7 +72,7 @@ void World::step() {
 void World::compute_forces() {
   update_angular_velocity(bodies_);  // in case momenta were set by hand since the last drift
   spheres_current_ = false;           // poses may have changed; positions are refreshed on demand
-  if (needs_rebuild()) rebuild();
+  update_neighbors();
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     bodies_.force[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
     bodies_.torque[b] = external_torque_[b];
@@ -95,35 +96,16 @@ void World::update_sphere_positions() const {
   spheres_current_ = true;
 }
 
-// A sphere of body b has moved by at most |dx| + max_offset * |R - R0|, with |R - R0| = 2 sin(theta/2)
-// for the rotation angle theta between the two orientations. Sphere-sphere candidates stay valid
-// while both ends moved less than skin/2; sphere-wall ones while sphere plus wall moved less than skin.
-bool World::needs_rebuild() const {
-  if (!built_) return true;
-  const double half = settings_.skin / 2;
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const double c = std::min(1.0, std::abs(bodies_.orientation[b].dot(built_orientation_[b])));
-    const double rot = 2 * std::sqrt(std::max(0.0, 1 - c * c));
-    if ((bodies_.position[b] - built_position_[b]).norm() + max_offset_ * rot > half) return true;
-  }
-  for (std::size_t w = 0; w < walls_.size(); ++w)
-    if (std::abs((walls_[w].point - built_wall_point_[w]).dot(walls_[w].normal)) > half) return true;
-  return false;
-}
-
 const std::vector<Vec3>& World::sphere_positions() const {
   if (!spheres_current_) update_sphere_positions();
   return sphere_pos_;
 }
 
-void World::rebuild() {
-  sphere_positions();
+void World::update_neighbors() {
   StageTimer t(times_.rebuild);
-  neighbors_.rebuild(bodies_, sphere_pos_, walls_);
-  built_position_ = bodies_.position;
-  built_orientation_ = bodies_.orientation;
-  built_wall_point_.resize(walls_.size());
-  for (std::size_t w = 0; w < walls_.size(); ++w) built_wall_point_[w] = walls_[w].point;
+  const NeighborUpdate u = neighbors_.update(bodies_, walls_);
+  if (!u.any()) return;
+  pair_searches_ += u.pairs_searched;
   const std::size_t n_pairs = neighbors_.body_pairs().size();
   pair_force_.resize(n_pairs);
   pair_torque_a_.resize(n_pairs);
@@ -132,7 +114,6 @@ void World::rebuild() {
   pair_sliding_.resize(n_pairs);
   pair_overlap_.resize(n_pairs);
   pair_energy_.resize(n_pairs);
-  built_ = true;
   ++rebuilds_;
 }
 
@@ -148,6 +129,12 @@ void World::sphere_contact_forces() {
 #pragma omp parallel for schedule(dynamic, 4) if (n_pairs >= 8)
   for (long p = 0; p < n_pairs; ++p) {
     const BodyPairSpan& gp = pairs[p];
+    if (gp.count == 0) {  // watched for drift, no sphere pair within reach
+      pair_force_[p] = pair_torque_a_[p] = pair_torque_b_[p] = Vec3::Zero();
+      pair_contacts_[p] = pair_sliding_[p] = 0;
+      pair_overlap_[p] = pair_energy_[p] = 0;
+      continue;
+    }
     const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
     const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
     const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
@@ -174,6 +161,7 @@ void World::sphere_contact_forces() {
   }
 
   stats_.candidates = keys.size();
+  candidate_steps_ += double(keys.size());
   stats_.contacts = stats_.sliding = 0;
   stats_.elastic_energy = 0;
   std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
@@ -237,12 +225,10 @@ void World::wall_forces() {
 template <class Archive, class Self>
 void World::state(Archive& a, Self& w) {
   for (auto* field : {&w.bodies_.position, &w.bodies_.velocity, &w.bodies_.angular_momentum, &w.bodies_.angular_velocity,
-                      &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia, &w.built_position_,
-                      &w.built_wall_point_, &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_,
+                      &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia, &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_,
                       &w.external_torque_})
     a.values(*field);
   a.values(w.bodies_.orientation);
-  a.values(w.built_orientation_);
   a.values(w.bodies_.mass);
   a.values(w.bodies_.motion);
   a.values(w.walls_);
@@ -251,10 +237,11 @@ void World::state(Archive& a, Self& w) {
   a.values(w.pair_overlap_);
   a.values(w.pair_energy_);
   a.values(w.overlap_sum_);
-  a.value(w.built_);
   a.value(w.time_);
   a.value(w.steps_);
   a.value(w.rebuilds_);
+  a.value(w.pair_searches_);
+  a.value(w.candidate_steps_);
   a.value(w.stats_);
   a.value(w.times_);
   w.neighbors_.state(a);

@@ -1,7 +1,7 @@
 // The simulation world: identical rigid grains (one shared template), plane walls, and the time step
 // as a short list of named, timed stages (docs/architecture.md):
-//   kick/drift -> move walls -> rebuild candidates if any sphere moved past half the skin (sphere
-//   positions are computed for it) -> sphere contact forces -> wall forces -> kick.
+//   kick/drift -> move walls -> search the candidates of the grain pairs whose relative pose drifted by
+//   a skin (NeighborList::update) -> sphere contact forces -> wall forces -> kick.
 // Contact forces are computed per grain pair into per-pair slots (in parallel) and then reduced into
 // the bodies in pair order, so the answer does not depend on the number of threads.
 #pragma once
@@ -63,6 +63,7 @@ class World {
 
   double time() const { return time_; }
   std::uint64_t steps() const { return steps_; }
+  /// Force evaluations at which some candidates were searched again (grain pairs or walls).
   std::uint64_t rebuilds() const { return rebuilds_; }
   const StageTimes& stage_times() const { return times_; }
   /// For the stages an experiment times around the world's (membrane, control, record).
@@ -89,8 +90,7 @@ class World {
   template <class Archive, class Self>
   static void state(Archive& a, Self& w);  // save() and restore()'s one list of fields
   void update_sphere_positions() const;
-  bool needs_rebuild() const;
-  void rebuild();
+  void update_neighbors();
   void sphere_contact_forces();
   void wall_forces();
 
@@ -101,16 +101,10 @@ class World {
   Bodies bodies_;
   std::vector<Wall> walls_;
   NeighborList neighbors_;
-  double max_offset_ = 0;  // largest |offset|, for the rotation part of a sphere's displacement
 
   mutable std::vector<Vec3> sphere_pos_;
   mutable bool spheres_current_ = false;
   mutable StageTimes times_;
-  // Poses at the last rebuild, for the half-skin rule.
-  std::vector<Vec3> built_position_;
-  std::vector<Quat> built_orientation_;
-  std::vector<Vec3> built_wall_point_;
-  bool built_ = false;
 
   // Per-grain-pair results of the contact stage, reduced in pair order.
   std::vector<Vec3> pair_force_, pair_torque_a_, pair_torque_b_;
@@ -120,7 +114,8 @@ class World {
   std::vector<Vec3> external_force_, external_torque_;
 
   double time_ = 0;
-  std::uint64_t steps_ = 0, rebuilds_ = 0;
+  std::uint64_t steps_ = 0, rebuilds_ = 0, pair_searches_ = 0;
+  double candidate_steps_ = 0;  // sum over force evaluations of the candidates
   ContactStats stats_;
 };
 
