@@ -37,9 +37,10 @@ modelling details below, which are second order in the tiny per-step rotations a
     (--lmp-walls region; same forces, ~16 % slower LAMMPS steps); the moving top wall is a region moved by
     a displacement variable, its velocity taken from the finite difference of the displacement (exact at
     constant speed); LAMMPS uses m_eff = the rigid body's mass on walls, as we do.
-  * both codes use the same time step and neighbour rule (rebuild when something moved half the skin); the
-    skins differ (ours 0.03 d, the engine default; LAMMPS 0.1 d, its fastest of 0.05/0.1/0.2 d here), which
-    does not change forces.
+  * both codes use the same time step; the neighbour rules differ (LAMMPS: everything again when an atom
+    moved half the skin; ours: a grain pair again when its relative pose drifted a skin), and so do the
+    skins (ours 0.03 d, the engine default; LAMMPS 0.1 d, its fastest of 0.05/0.1/0.2 d here); neither
+    changes forces.
 At 1e-3 relative per quantity and with the block's response smooth over 2000 steps these stay well below
 1 %; where the force is small (< 10 % of its maximum, e.g. while a wall is about to lose contact) relative
 differences are meaningless and are not tested.

@@ -11,6 +11,12 @@
 
 namespace granulab {
 
+namespace {
+// A grain pair whose touching share of candidates was below this at the last evaluation takes the
+// kernel's two-pass path (distances first); measured in bench/README.md, "Sparse contacts".
+constexpr double kSparseShare = 0.5;
+}  // namespace
+
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
     : grain_(grain), offset_arrays_(grain.offsets()), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
@@ -114,6 +120,10 @@ void World::update_neighbors() {
   pair_sliding_.resize(n_pairs);
   pair_overlap_.resize(n_pairs);
   pair_energy_.resize(n_pairs);
+  std::uint32_t largest = 0;
+  for (const BodyPairSpan& gp : neighbors_.body_pairs()) largest = std::max(largest, gp.count);
+  touching_scratch_.resize(omp_get_max_threads());
+  for (auto& s : touching_scratch_) s.resize(largest);
   ++rebuilds_;
 }
 
@@ -149,8 +159,11 @@ void World::sphere_contact_forces() {
     c.rb = bodies_.orientation[gp.b].toRotationMatrix();
     c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
     c.dw = wa - wb;
+    // Where most candidates did not touch at the last evaluation, distances first (PairKernel).
+    const bool sparse = double(pair_contacts_[p]) < kSparseShare * double(gp.count);
     const PairKernelSums s = pair_contacts(c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
-                                             history.y.data() + gp.first, history.z.data() + gp.first);
+                                           history.y.data() + gp.first, history.z.data() + gp.first,
+                                           sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
     pair_force_[p] = s.force;
     pair_torque_a_[p] = s.moment;
     pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);

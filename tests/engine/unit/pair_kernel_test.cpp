@@ -1,6 +1,7 @@
 // The vectorised contact loop computes the same law as the scalar contact_force(): random sphere
 // pairs (touching and separated), random shear histories (some at the Coulomb limit, some rotated far
-// out of the tangent plane), random rigid-body velocities. Results agree to rounding.
+// out of the tangent plane), random rigid-body velocities. Results agree to rounding, on both paths
+// (one pass over every candidate; distances first, then the law on the touching ones).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -12,7 +13,10 @@
 namespace granulab {
 namespace {
 
-TEST(PairKernel, MatchesScalarContactLaw) {
+class PairKernel : public ::testing::TestWithParam<bool> {};
+
+TEST_P(PairKernel, MatchesScalarContactLaw) {
+  const bool two_pass = GetParam();
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> u(-1, 1);
   const double d = 1e-3;
@@ -47,7 +51,9 @@ TEST(PairKernel, MatchesScalarContactLaw) {
   std::vector<Vec3> kernel_hist = hist, scalar_hist = hist;
   std::vector<double> hx(n), hy(n), hz(n);  // the kernel's layout: one array per component
   for (int k = 0; k < n; ++k) hx[k] = hist[k].x(), hy[k] = hist[k].y(), hz[k] = hist[k].z();
-  const PairKernelSums s = pair_contacts(c, OffsetArrays(offsets), keys.data(), n, hx.data(), hy.data(), hz.data());
+  std::vector<std::uint32_t> scratch(n, 12345);
+  const PairKernelSums s = pair_contacts(c, OffsetArrays(offsets), keys.data(), n, hx.data(), hy.data(), hz.data(),
+                                         two_pass ? scratch.data() : nullptr);
   for (int k = 0; k < n; ++k) kernel_hist[k] = Vec3(hx[k], hy[k], hz[k]);
 
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
@@ -80,6 +86,9 @@ TEST(PairKernel, MatchesScalarContactLaw) {
   for (int k = 0; k < n; ++k)
     EXPECT_LT((kernel_hist[k] - scalar_hist[k]).norm(), 1e-10 * scalar_hist[k].norm() + 1e-20) << k;
 }
+
+INSTANTIATE_TEST_SUITE_P(Paths, PairKernel, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& p) { return p.param ? "DistancesFirst" : "OnePass"; });
 
 }  // namespace
 }  // namespace granulab
