@@ -111,7 +111,8 @@ class World {
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
   std::vector<double> pair_overlap_, pair_energy_;
   std::vector<double> overlap_sum_;
-  std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
+  std::vector<std::vector<std::uint32_t>> touching_scratch_;
+  std::vector<Mat3> rotation_;  // body -> world rotation of each body, for the contact stage  // per thread, for the kernel's two-pass path
   std::vector<Vec3> external_force_, external_torque_;
 
   double time_ = 0;
