@@ -206,6 +206,8 @@ double World::kinetic_energy() const {
   return e;
 }
 
+// Each candidate's force in parallel (most are apart: a sphere of the outer layer near, not on, the wall),
+// then the sums into bodies and walls in key order, so the result does not depend on the threads.
 void World::wall_forces() {
   StageTimer t(times_.walls);
   for (Wall& w : walls_) w.force.setZero(), w.contacts = 0;
@@ -214,16 +216,21 @@ void World::wall_forces() {
   const std::size_t per_body = grain_.sphere_count();
   const Vec3* offsets = grain_.offsets().data();
   const double radius = grain_.radius(), dt = settings_.time_step;
-  stats_.wall_contacts = 0;
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    Wall& w = walls_[keys[k] >> 32];
+  const long n_keys = long(keys.size());
+  wall_force_.resize(n_keys);
+  wall_torque_.resize(n_keys);
+  wall_touching_.resize(n_keys);
+#pragma omp parallel for schedule(static) if (n_keys >= 2048)
+  for (long k = 0; k < n_keys; ++k) {
+    const Wall& w = walls_[keys[k] >> 32];
     const std::size_t s = keys[k] & 0xffffffffu;
     const BodyId b = BodyId(s / per_body);
-    const Vec3 centre = bodies_.position[b] + bodies_.orientation[b] * offsets[s % per_body];
+    const Vec3 centre = bodies_.position[b] + rotation_[b] * offsets[s % per_body];
     const double dist = w.distance(centre);
     const double delta = radius - dist;
+    wall_touching_[k] = delta > 0;
     if (delta <= 0) {
-      history[k].setZero();
+      if (!history[k].isZero()) history[k].setZero();
       continue;
     }
     const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
@@ -232,9 +239,17 @@ void World::wall_forces() {
     ContactLaw law = law_;
     if (w.friction >= 0) law.friction = w.friction;
     const ContactForce cf = contact_force(law, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
-    bodies_.force[b] += cf.force;
-    bodies_.torque[b] += arm.cross(cf.force);
-    w.force -= cf.force;
+    wall_force_[k] = cf.force;
+    wall_torque_[k] = arm.cross(cf.force);
+  }
+  stats_.wall_contacts = 0;
+  for (long k = 0; k < n_keys; ++k) {
+    if (!wall_touching_[k]) continue;
+    Wall& w = walls_[keys[k] >> 32];
+    const BodyId b = BodyId((keys[k] & 0xffffffffu) / per_body);
+    bodies_.force[b] += wall_force_[k];
+    bodies_.torque[b] += wall_torque_[k];
+    w.force -= wall_force_[k];
     ++w.contacts;
     ++stats_.wall_contacts;
   }

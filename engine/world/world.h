@@ -112,7 +112,9 @@ class World {
   std::vector<double> pair_overlap_, pair_energy_;
   std::vector<double> overlap_sum_;
   std::vector<std::vector<std::uint32_t>> touching_scratch_;
-  std::vector<Mat3> rotation_;  // body -> world rotation of each body, for the contact stage  // per thread, for the kernel's two-pass path
+  std::vector<Mat3> rotation_;  // body -> world rotation of each body, for the contact stage
+  std::vector<Vec3> wall_force_, wall_torque_;  // per sphere-wall candidate, last evaluation (N, N m)
+  std::vector<std::uint8_t> wall_touching_;  // per thread, for the kernel's two-pass path
   std::vector<Vec3> external_force_, external_torque_;
 
   double time_ = 0;
