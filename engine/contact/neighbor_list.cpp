@@ -33,10 +33,8 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
   const std::size_t n_old = pairs_.size();
   if (!built_ || broad_position_.size() != bodies.size() || broad_phase_due(bodies)) {
     std::swap(pairs_, old_pairs_);
-    std::swap(frames_, old_frames_);
     std::swap(keys_, old_keys_);
     std::swap(history_, old_history_);
-    if (!built_) old_pairs_.clear();
     broad_phase(bodies);
     // Every pair is searched (this happens once per half margin of travel); pairs that were already
     // watched carry their histories over.
@@ -50,7 +48,8 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
       if (po < old_pairs_.size() && old_pairs_[po].a == gp.a && old_pairs_[po].b == gp.b) old_index_[p] = std::uint32_t(po);
     }
     search_.assign(pairs_.size(), 1);
-    frames_.resize(pairs_.size());
+    frame_t_.resize(pairs_.size());
+    frame_q_.resize(pairs_.size());
     search_and_merge(bodies, old_index_);
     broad_position_ = bodies.position;
     u.broad = true;
@@ -59,11 +58,9 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
   } else if (n_old > 0 && mark_drifted(bodies, skin_) > 0) {
     u.pairs_searched = mark_drifted(bodies, kRefreshShare * skin_);
     std::swap(pairs_, old_pairs_);
-    std::swap(frames_, old_frames_);
     std::swap(keys_, old_keys_);
     std::swap(history_, old_history_);
     pairs_ = old_pairs_;
-    frames_ = old_frames_;
     old_index_.resize(n_old);
     for (std::size_t p = 0; p < n_old; ++p) old_index_[p] = std::uint32_t(p);
     search_and_merge(bodies, old_index_);
@@ -107,8 +104,8 @@ std::uint32_t NeighborList::mark_drifted(const Bodies& bodies, double threshold)
     const BodyPairSpan& gp = pairs_[p];
     const Quat qa_inv = bodies.orientation[gp.a].conjugate();
     const Vec3 t = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
-    const Quat dq = frames_[p].q.conjugate() * (qa_inv * bodies.orientation[gp.b]);
-    const double drift = (t - frames_[p].t).norm() + 2 * reach_ * dq.vec().norm();
+    const Quat dq = frame_q_[p].conjugate() * (qa_inv * bodies.orientation[gp.b]);
+    const double drift = (t - frame_t_[p]).norm() + 2 * reach_ * dq.vec().norm();
     search_[p] = drift >= threshold;
     marked += search_[p];
   }
@@ -192,7 +189,8 @@ void NeighborList::search_and_merge(const Bodies& bodies, const std::vector<std:
       const Quat qa_inv = bodies.orientation[gp.a].conjugate();
       const Quat q_ab = qa_inv * bodies.orientation[gp.b];
       const Vec3 t_ab = qa_inv * (bodies.position[gp.b] - bodies.position[gp.a]);
-      frames_[p] = {t_ab, q_ab};
+      frame_t_[p] = t_ab;
+      frame_q_[p] = q_ab;
       const std::size_t begin = out.size();
       pair_thread_[p] = std::uint32_t(t);
       pair_offset_[p] = std::uint32_t(begin);

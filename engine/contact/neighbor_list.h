@@ -38,12 +38,6 @@ struct BodyPairSpan {
   std::uint32_t count;  ///< number of sphere pairs (0: watched, none within d + skin)
 };
 
-/// The relative pose of b in a's body frame when the pair was last searched.
-struct PairFrame {
-  Vec3 t;  ///< x_b - x_a in a's frame (m)
-  Quat q;  ///< q_a^-1 q_b
-};
-
 inline std::uint32_t sphere_pair_key(LocalSphereId i, LocalSphereId j) { return std::uint32_t(i) << 16 | j; }
 inline LocalSphereId key_first(std::uint32_t key) { return LocalSphereId(key >> 16); }
 inline LocalSphereId key_second(std::uint32_t key) { return LocalSphereId(key & 0xffff); }
@@ -105,7 +99,8 @@ class NeighborList {
     a.section("neighbors");
     a.value(list.built_);
     a.values(list.pairs_);
-    a.values(list.frames_);
+    a.values(list.frame_t_);
+    a.values(list.frame_q_);
     a.values(list.keys_);
     a.values(list.history_.x);
     a.values(list.history_.y);
@@ -132,7 +127,9 @@ class NeighborList {
   bool built_ = false;
 
   std::vector<BodyPairSpan> pairs_, old_pairs_;
-  std::vector<PairFrame> frames_, old_frames_;
+  // Per grain pair, b's pose in a's body frame when last searched: x_b - x_a in a's frame (m), q_a^-1 q_b.
+  std::vector<Vec3> frame_t_;
+  std::vector<Quat> frame_q_;
   std::vector<std::uint32_t> keys_, old_keys_;
   ShearHistory history_, old_history_;
   std::vector<Vec3> broad_position_;  // grain centres at the last broad phase

@@ -50,9 +50,9 @@ double crystal_time_step(const CrystalSampleParams& p);
 /// touching, in-line sphere pairs should be candidates: the next sphere across a face sits at
 /// d sqrt(1 + (1 - kappa)^2) (1.031 d at kappa = 0.75), and a skin beyond that makes every contact drag
 /// its neighbours along (5x slower, measured). Once faces slide their sphere grids no longer line up and
-/// a sphere has ~ 2 pi d skin / s^2 candidates across a face (3 at 0.03 d, 1 at 0.01 d), while the
-/// platen's motion triggers a rebuild every skin/2 of travel: 0.01 d balances the two (reference crystal:
-/// 0.0039 s/step to 5 % strain, 0.0068 at 0.03 d; bench/README.md).
+/// a sphere has ~ 2 pi d skin / s^2 candidates across a face (3 at 0.03 d, 1 at 0.01 d), while a
+/// smaller skin searches grain pairs more often: 0.01 d balances the two (reference crystal to 0.5 %,
+/// per-grain-pair searches: 5.52 ms/step at 0.01 d, 5.53 at 0.005 d, 5.86 at 0.02 d; bench/README.md).
 double crystal_skin_factor(double overlap);
 
 class CrystalSample {

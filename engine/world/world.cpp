@@ -13,7 +13,9 @@ namespace granulab {
 
 namespace {
 // A grain pair whose touching share of candidates was below this at the last evaluation takes the
-// kernel's two-pass path (distances first); measured in bench/README.md, "Sparse contacts".
+// kernel's two-pass path (distances first). Not tuned: on the dense block of bench_contacts (16 %
+// touching) one pass took 1.85 s and two passes 1.2 s, so the distance pass costs ~40 % of a full
+// evaluation and the break-even lies near 45 % touching (bench/README.md, "Sparse contacts").
 constexpr double kSparseShare = 0.5;
 }  // namespace
 
@@ -120,11 +122,17 @@ void World::update_neighbors() {
   pair_sliding_.resize(n_pairs);
   pair_overlap_.resize(n_pairs);
   pair_energy_.resize(n_pairs);
+  size_kernel_scratch();
+  ++rebuilds_;
+}
+
+// Room for the largest grain pair's candidates per thread: sized whenever the candidates change (and on
+// restore), so that a step without a search allocates nothing.
+void World::size_kernel_scratch() {
   std::uint32_t largest = 0;
   for (const BodyPairSpan& gp : neighbors_.body_pairs()) largest = std::max(largest, gp.count);
   touching_scratch_.resize(omp_get_max_threads());
-  for (auto& s : touching_scratch_) s.resize(largest);
-  ++rebuilds_;
+  for (auto& s : touching_scratch_) s.resize(std::max<std::size_t>(s.size(), largest));
 }
 
 void World::sphere_contact_forces() {
@@ -298,6 +306,7 @@ void World::restore(CheckpointReader& r) {
                           std::to_string(walls_.size()) + ": not the same spec");
   state(r, *this);
   spheres_current_ = false;  // sphere positions follow from the restored poses
+  size_kernel_scratch();
 }
 
 }  // namespace granulab

@@ -91,6 +91,7 @@ class World {
   static void state(Archive& a, Self& w);  // save() and restore()'s one list of fields
   void update_sphere_positions() const;
   void update_neighbors();
+  void size_kernel_scratch();
   void sphere_contact_forces();
   void wall_forces();
 
@@ -111,10 +112,12 @@ class World {
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
   std::vector<double> pair_overlap_, pair_energy_;
   std::vector<double> overlap_sum_;
-  std::vector<std::vector<std::uint32_t>> touching_scratch_;
+  std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
   std::vector<Mat3> rotation_;  // body -> world rotation of each body, for the contact stage
-  std::vector<Vec3> wall_force_, wall_torque_;  // per sphere-wall candidate, last evaluation (N, N m)
-  std::vector<std::uint8_t> wall_touching_;  // per thread, for the kernel's two-pass path
+  // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
+  // centre (N m), and whether it touched.
+  std::vector<Vec3> wall_force_, wall_torque_;
+  std::vector<std::uint8_t> wall_touching_;
   std::vector<Vec3> external_force_, external_torque_;
 
   double time_ = 0;
