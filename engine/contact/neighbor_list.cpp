@@ -32,9 +32,7 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
   NeighborUpdate u;
   const std::size_t n_old = pairs_.size();
   if (!built_ || broad_position_.size() != bodies.size() || broad_phase_due(bodies)) {
-    std::swap(pairs_, old_pairs_);
-    std::swap(keys_, old_keys_);
-    std::swap(history_, old_history_);
+    retire_candidates();
     broad_phase(bodies);
     // Every pair is searched (this happens once per half margin of travel); pairs that were already
     // watched carry their histories over.
@@ -50,26 +48,31 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
     search_.assign(pairs_.size(), 1);
     frame_t_.resize(pairs_.size());
     frame_q_.resize(pairs_.size());
-    search_and_merge(bodies, old_index_);
+    search_and_merge(bodies);
     broad_position_ = bodies.position;
     u.broad = true;
     u.pairs_searched = std::uint32_t(pairs_.size());
     built_ = true;
   } else if (n_old > 0 && mark_drifted(bodies, skin_) > 0) {
     u.pairs_searched = mark_drifted(bodies, kRefreshShare * skin_);
-    std::swap(pairs_, old_pairs_);
-    std::swap(keys_, old_keys_);
-    std::swap(history_, old_history_);
+    retire_candidates();
     pairs_ = old_pairs_;
     old_index_.resize(n_old);
     for (std::size_t p = 0; p < n_old; ++p) old_index_[p] = std::uint32_t(p);
-    search_and_merge(bodies, old_index_);
+    search_and_merge(bodies);
   }
   if (u.broad || wall_phase_due(bodies, walls)) {
     wall_phase(bodies, walls);
     u.walls = true;
   }
   return u;
+}
+
+// The current lists become the old ones that search_and_merge() copies and merges from.
+void NeighborList::retire_candidates() {
+  std::swap(pairs_, old_pairs_);
+  std::swap(keys_, old_keys_);
+  std::swap(history_, old_history_);
 }
 
 bool NeighborList::broad_phase_due(const Bodies& bodies) const {
@@ -157,7 +160,7 @@ void NeighborList::broad_phase(const Bodies& bodies) {
 }
 
 // The sphere pairs of the marked grain pairs (search_), then the new layout: a searched pair merges its
-// new sorted block with its old one (old_index: the pair's index in old_pairs_, or kNoPair) to carry the
+// new sorted block with its old one (old_index_: the pair's index in old_pairs_, or kNoPair) to carry the
 // histories; the others keep their block and history as they were.
 //
 // Only b's spheres on the side facing a are looked up: with u the unit vector from x_a to x_b (a's frame),
@@ -165,7 +168,8 @@ void NeighborList::broad_phase(const Bodies& bodies) {
 // only if u . p_j <= h_a + cutoff, i.e. (R_ab^T u) . o_j <= h_a + cutoff - |t_ab|. Two dot products per
 // sphere, vectorised over the component arrays, spare most grid lookups of face-to-face neighbours (the
 // candidates found are exactly the same).
-void NeighborList::search_and_merge(const Bodies& bodies, const std::vector<std::uint32_t>& old_index) {
+void NeighborList::search_and_merge(const Bodies& bodies) {
+  const std::vector<std::uint32_t>& old_index = old_index_;
   const long n_pairs = long(pairs_.size());
   const int n_threads = omp_get_max_threads();
   thread_keys_.resize(n_threads);

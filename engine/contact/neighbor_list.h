@@ -116,8 +116,9 @@ class NeighborList {
   bool wall_phase_due(const Bodies& bodies, const std::vector<Wall>& walls) const;
   /// Marks (search_) the grain pairs that drifted by at least `threshold` (m); returns how many.
   std::uint32_t mark_drifted(const Bodies& bodies, double threshold);
+  void retire_candidates();
   void broad_phase(const Bodies& bodies);
-  void search_and_merge(const Bodies& bodies, const std::vector<std::uint32_t>& old_index);
+  void search_and_merge(const Bodies& bodies);
   void wall_phase(const Bodies& bodies, const std::vector<Wall>& walls);
 
   std::vector<Vec3> offsets_;
