@@ -151,9 +151,9 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   json expected = json::parse(kContractCrystalExample);
   expected["label"] = "";
   expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
-  // Deliberate departures: the default rate is the one shown quasi-static, 1.5 p0 / E (docs/results.md,
+  // Deliberate departures: the default rate is the one shown quasi-static, p0 / E (docs/results.md,
   // "Quasi-static rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
-  expected["loading"]["rate_number"] = 1.5 * 60e3 / 3e9;
+  expected["loading"]["rate_number"] = 60e3 / 3e9;
   expected["crystal"]["knockout_regions"] = json::array();
   expected["loading"]["wall_friction"] = 0.35;  // an extension: the platens' f, by default the grains'
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
@@ -170,10 +170,10 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
 // The default rate follows the spec's own p0 and E, and a given rate is kept as given.
 TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
   const auto rate = [](const char* text) { return parse_spec_text(text).normalized["loading"]["rate_number"].get<double>(); };
-  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 10000}})"), 5e-6);
+  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 10000}})"), 1e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 30000},
                             "material": {"youngs_modulus": 1e9}})"),
-                   4.5e-5);
+                   3e-5);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"rate_number": 1e-4}})"), 1e-4);
 }
 

@@ -65,7 +65,7 @@ std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve,
 }
 
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus) {
-  return std::clamp(1.5 * confining_pressure / youngs_modulus, 1e-8, 0.1);  // the field's allowed range
+  return std::clamp(confining_pressure / youngs_modulus, 1e-8, 0.1);  // the field's allowed range
 }
 
 namespace {
@@ -221,7 +221,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
 
   const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
-  // stress wave of amplitude E R (1.5 p0 at the default R = 1.5 p0 / E) through it.
+  // stress wave of amplitude E R (p0 at the default R = p0 / E) through it.
   const double ramp_time = 10 * ref_length_ / wave_speed;
   const std::uint64_t first = at.first;
   while (at.next_row < record_at.size()) {

@@ -61,7 +61,7 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   v.number("max_strain", p.max_strain, {0, 0.5, true}, "-", "compression stops here");
   if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-",
-           "R = L eps_dot / sqrt(E/rho) (default: 1.5 p0 / E, quasi-static to 2 %; docs/results.md)");
+           "R = L eps_dot / sqrt(E/rho) (default: p0 / E, quasi-static to 2 %; docs/results.md)");
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000, "curve rows (a quarter of them over the first 2.5 % of the run)");
   // By default, the paper's snapshot strains that the run reaches; explicit ones must be reachable.
