@@ -3,7 +3,10 @@
 // SIGINT: stop accepting requests, interrupt running jobs and put them back in the queue, exit cleanly.
 // After a kill -9, jobs found `running` at the next start are re-queued the same way.
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <memory>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -17,6 +20,7 @@
 #include "server/instance_lock.h"
 #include "server/routes.h"
 #include "server/store/job_store.h"
+#include "server/slurm/slurm_executor.h"
 #include "server/worker_pool.h"
 
 using namespace granulab::server;
@@ -39,7 +43,13 @@ const char* kUsage =
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
     "  --token-file: lines '<user> <token> [admin]'; then every route but /v1/health needs\n"
     "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it\n"
-    "  --private: reading a job is also for its owner and admins only (default: the lab reads everything)\n";
+    "  --private: reading a job is also for its owner and admins only (default: the lab reads everything)\n"
+    "  --executor local|slurm: run jobs on this machine's pool (default) or as Slurm jobs (docs/cluster.md):\n"
+    "      --slurm-url URL --slurm-user USER (--slurm-jwt-key FILE | SLURM_JWT in the environment)\n"
+    "      [--slurm-partition P] [--public-url URL (where the nodes reach this daemon; default http://HOST:PORT)]\n"
+    "      [--slurm-time-limit MIN (most a job may ask for; default 10080)] [--slurm-signal-seconds S (default 120)]\n"
+    "      [--slurm-output PATTERN (the Slurm jobs' output on the node; default /dev/null)]\n"
+    "      [--slurm-worker PATH (the granulab binary on the nodes; default the one next to granulabd)]\n";
 
 using granulab::api::parse_int_option;
 using granulab::api::parse_number_option;
@@ -50,7 +60,8 @@ int main(int argc, char** argv) {
   granulab::api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
-  std::string host = "127.0.0.1", db = "var/granulab.db", token_file;
+  std::string host = "127.0.0.1", db = "var/granulab.db", token_file, executor_name = "local", jwt_key_file;
+  slurm::ExecutorOptions slurm_options;
   int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
   HttpOptions options;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -82,8 +93,23 @@ int main(int argc, char** argv) {
       else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
       else if (a == "--max-memory") options.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
       else if (a == "--max-sphere-steps") options.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
+      else if (a == "--executor") executor_name = v;
+      else if (a == "--slurm-url") slurm_options.rest.url = v;
+      else if (a == "--slurm-user") slurm_options.rest.user = v;
+      else if (a == "--slurm-jwt-key") jwt_key_file = v;
+      else if (a == "--slurm-partition") slurm_options.partition = v;
+      else if (a == "--public-url") slurm_options.public_url = v;
+      else if (a == "--slurm-time-limit") slurm_options.max_time_limit_minutes = parse_int_option(a, v, 1, 525600);
+      else if (a == "--slurm-signal-seconds") slurm_options.signal_seconds = parse_int_option(a, v, 1, 86400);
+      else if (a == "--slurm-output") slurm_options.output = v;
+      else if (a == "--slurm-worker") slurm_options.worker_binary = v;
       else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
     }
+    if (executor_name != "local" && executor_name != "slurm")
+      throw std::invalid_argument("--executor must be local or slurm, got '" + executor_name + "'");
+    const bool on_slurm = executor_name == "slurm";
+    if (on_slurm && (slurm_options.rest.url.empty() || slurm_options.rest.user.empty()))
+      throw std::invalid_argument("--executor slurm needs --slurm-url URL and --slurm-user USER");
     // Workers x engine threads never exceed the cores.
     const int fair = std::max(1, cores / workers);
     if (threads == 0) threads = fair;
@@ -110,11 +136,33 @@ int main(int argc, char** argv) {
     std::optional<InstanceLock> lock;
     if (db != ":memory:") lock.emplace(db);
     JobStore store(db, std::int64_t(max_db_mb) * 1000000);
-    const std::size_t requeued = store.requeue_running();
+    // Jobs on a cluster are still there: the Slurm executor follows them again.
+    const std::size_t requeued = store.requeue_running(on_slurm);
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
-    WorkerPool pool(store, workers, threads);
-    pool.set_max_running_per_owner(max_running_per_user);
-    pool.set_checkpoint_seconds(checkpoint_seconds);
+    std::unique_ptr<Executor> executor;
+    slurm::SlurmExecutor* cluster = nullptr;
+    if (on_slurm) {
+      if (!jwt_key_file.empty()) {
+        std::ifstream key(jwt_key_file, std::ios::binary);
+        if (!key) throw std::invalid_argument("cannot read --slurm-jwt-key '" + jwt_key_file + "'");
+        slurm_options.rest.jwt_key.assign(std::istreambuf_iterator<char>(key), {});
+      } else if (const char* jwt = std::getenv("SLURM_JWT")) {
+        slurm_options.rest.jwt = jwt;
+      }
+      if (slurm_options.worker_binary.empty())
+        slurm_options.worker_binary = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
+      slurm_options.threads_per_job = threads;
+      slurm_options.checkpoint_seconds = checkpoint_seconds;
+      auto slurm_executor = std::make_unique<slurm::SlurmExecutor>(store, slurm_options);
+      cluster = slurm_executor.get();
+      executor = std::move(slurm_executor);
+    } else {
+      auto pool = std::make_unique<WorkerPool>(store, workers, threads);
+      pool->set_max_running_per_owner(max_running_per_user);
+      pool->set_checkpoint_seconds(checkpoint_seconds);
+      executor = std::move(pool);
+    }
+    Executor& pool = *executor;
     if (!token_file.empty()) {
       std::string warning;
       options.tokens = read_token_file(token_file, &warning);
@@ -123,6 +171,12 @@ int main(int argc, char** argv) {
     HttpServer http(store, pool, options);
     const int bound = http.bind(host, port);
     if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + " (is another server using the port?)");
+    if (cluster) {
+      // The nodes reach this daemon at --public-url, by default the address it listens on.
+      if (slurm_options.public_url.empty()) cluster->set_public_url("http://" + host + ":" + std::to_string(bound));
+      spdlog::info("jobs run on the Slurm cluster at {}: {}; its nodes reach this daemon at {}", slurm_options.rest.url,
+                   cluster->cluster(), cluster->public_url());
+    }
     pool.start();
     std::thread signal_waiter([&] {
       int sig = 0;
@@ -130,14 +184,16 @@ int main(int argc, char** argv) {
       spdlog::info("signal {}: stopping", sig);
       http.stop();
     });
-    spdlog::info("granulabd listening on http://{}:{} (db {}, {} worker(s) x {} thread(s), {}); the web page is "
+    spdlog::info("granulabd listening on http://{}:{} (db {}, {}, {}); the web page is "
                  "http://{}:{}/, the API document /v1/openapi.json",
-                 host, bound, db, workers, threads,
+                 host, bound, db,
+                 on_slurm ? "jobs on Slurm, " + std::to_string(threads) + " thread(s) each by default"
+                          : std::to_string(workers) + " worker(s) x " + std::to_string(threads) + " thread(s)",
                  options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
     http.serve();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.
-    if (const std::size_t n = store.requeue_running()) spdlog::info("re-queued {} interrupted job(s)", n);
+    if (const std::size_t n = store.requeue_running(on_slurm)) spdlog::info("re-queued {} interrupted job(s)", n);
     if (signal_waiter.joinable()) {
       pthread_kill(signal_waiter.native_handle(), SIGTERM);  // wakes sigwait if we stopped for another reason
       signal_waiter.join();

@@ -94,11 +94,13 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
   buffer_.erase(0, head_end + terminator);
   head_done_ = true;
   std::size_t pos = 0, newline = 0;
-  std::string line;
+  std::string line, target, worker_token;
   bool has_length = false, expect_continue = false;
   for (bool request_line = true; next_line(head, pos, newline, line); pos = newline + 1, request_line = false) {
     if (request_line) {
       head_ = line + "\r\n";
+      const auto first = line.find(' '), second = line.find(' ', first == std::string::npos ? first : first + 1);
+      if (first != std::string::npos && second != std::string::npos) target = line.substr(first + 1, second - first - 1);
       continue;
     }
     // Strict names: no folded lines (a leading space or tab), no space in or after a name. Lenient parsing
@@ -132,15 +134,20 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
         return reject(417, "expectation_failed", "only 'Expect: 100-continue' is supported, got '" + value + "'");
       expect_continue = true;
     } else {
+      if (name == "x-worker-token") worker_token = value;
       head_ += line + "\r\n";
     }
   }
+  body_limit_ = limits_.max_body_bytes;
+  if (limits_.trusted && !worker_token.empty() && limits_.max_trusted_body_bytes > body_limit_ &&
+      limits_.trusted(target, worker_token))
+    body_limit_ = limits_.max_trusted_body_bytes;
   if (chunked_ && has_length)
     return reject(400, "bad_request", "a request may not have both Content-Length and Transfer-Encoding");
-  if (content_length_ > limits_.max_body_bytes)
+  if (content_length_ > body_limit_)
     return reject(413, "too_large",
                   "request body of " + std::to_string(content_length_) + " bytes is larger than the limit of " +
-                      std::to_string(limits_.max_body_bytes) + " bytes");
+                      std::to_string(body_limit_) + " bytes");
   // A POST with neither header has an empty body (content_length_ stays 0).
   continue_pending_ = expect_continue && (chunked_ || content_length_ > 0) && buffer_.empty();
   return state_;
@@ -170,10 +177,9 @@ RequestReader::State RequestReader::read_chunks() {
         at = newline + 1;
         if (chunk_remaining_ == 0) {
           chunk_ = Chunk::trailer;
-        } else if (body_.size() + chunk_remaining_ > limits_.max_body_bytes) {
+        } else if (body_.size() + chunk_remaining_ > body_limit_) {
           return reject(413, "too_large",
-                        "chunked request body larger than the limit of " + std::to_string(limits_.max_body_bytes) +
-                            " bytes");
+                        "chunked request body larger than the limit of " + std::to_string(body_limit_) + " bytes");
         } else {
           chunk_ = Chunk::data;
         }

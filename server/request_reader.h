@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 namespace granulab::server {
@@ -14,6 +15,10 @@ namespace granulab::server {
 struct RequestLimits {
   std::size_t max_head_bytes = 16 * 1024;  ///< request line + headers
   std::size_t max_body_bytes = 1 << 20;    ///< the body after chunked decoding
+  /// A larger limit for a request whose `X-Worker-Token` header `trusted` accepts for its target (a job's
+  /// worker on a cluster sending a checkpoint): decided from the head, before any of the body is read.
+  std::size_t max_trusted_body_bytes = 0;
+  std::function<bool(const std::string& target, const std::string& worker_token)> trusted;
 };
 
 class RequestReader {
@@ -60,6 +65,7 @@ class RequestReader {
   std::size_t trailer_bytes_ = 0;
   bool received_ = false;
   std::size_t content_length_ = 0;
+  std::size_t body_limit_ = 0;  ///< max_body_bytes, or max_trusted_body_bytes for a trusted request
   std::string body_;    ///< decoded chunked body so far
   bool continue_pending_ = false;
   std::string request_, leftover_;

@@ -45,6 +45,8 @@ json job_json(const JobRecord& j, bool full) {
   if (!j.error.empty()) out["error"] = j.error;
   if (json warnings = warnings_of(j); !warnings.empty()) out["warnings"] = std::move(warnings);
   if (!j.owner.empty()) out["owner"] = j.owner;
+  if (!j.slurm_job_id.empty()) out["slurm_job_id"] = j.slurm_job_id;
+  if (!j.slurm_state.empty()) out["slurm_state"] = j.slurm_state;  // e.g. "PENDING (Resources)"
   if (j.sweep_id != 0) {
     out["sweep_id"] = j.sweep_id;
     out["sweep_values"] = json::parse(j.sweep_values, nullptr, false);

@@ -300,12 +300,16 @@ json HttpServer::cost_estimate(const api::Spec& spec) {
   return out;
 }
 
-HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options)
+HttpServer::HttpServer(JobStore& store, Executor& pool, const HttpOptions& options)
     : store_(store), pool_(pool), options_(options), http_(std::make_unique<LoopServer>()) {
   if (options_.max_memory_bytes <= 0)
     options_.max_memory_bytes = 0.5 * double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
   ConnectionOptions connection;
   connection.limits.max_body_bytes = options_.max_body_bytes;
+  connection.limits.max_trusted_body_bytes = options_.max_worker_body_bytes;
+  connection.limits.trusted = [this](const std::string& target, const std::string& token) {
+    return worker_may_send(target, token);
+  };
   connection.handler_threads = options_.handler_threads;
   connection.max_connections = options_.max_connections;
   connection.request_timeout_ms = options_.request_timeout_ms;
@@ -316,7 +320,7 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
         return http_->answer(fd, request, last, response);
       });
   http_->loop = connections_.get();
-  http_->set_payload_max_length(options_.max_body_bytes);
+  http_->set_payload_max_length(std::max(options_.max_body_bytes, options_.max_worker_body_bytes));  // the loop enforces both
   // The Keep-Alive header cpp-httplib writes states the loop's policy.
   http_->set_keep_alive_max_count(std::size_t(options_.keep_alive_max_requests));
   http_->set_keep_alive_timeout(std::max(1, options_.keep_alive_timeout_ms / 1000));
@@ -335,7 +339,9 @@ HttpServer::HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& opt
   // With tokens, every route but health needs a known bearer token.
   http_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     // The page itself asks for the token; health is for monitors.
-    const bool open = req.path == "/v1/health" || req.path == "/" || req.path.rfind("/web/", 0) == 0;
+    // A job's worker presents that job's own secret instead (worker_routes.cpp).
+    const bool open = req.path == "/v1/health" || req.path == "/" || req.path.rfind("/web/", 0) == 0 ||
+                      req.path.rfind("/v1/worker/", 0) == 0;
     if (open || caller(req)) return httplib::Server::HandlerResponse::Unhandled;
     error(res, 401, "unauthorized",
           req.has_header("Authorization") ? "unknown access token" : "this server needs 'Authorization: Bearer <token>'");
@@ -414,6 +420,7 @@ void HttpServer::routes() {
   picture_routes();
   export_routes();
   web_routes();
+  worker_routes();
   http_->Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
     reply(res, 200,
           {{"status", "ok"},
@@ -421,7 +428,8 @@ void HttpServer::routes() {
            {"queued", store_.count("queued")},
            {"running", store_.count("running")},
            {"workers", pool_.workers()},
-           {"threads_per_job", pool_.threads_per_job()}});
+           {"threads_per_job", pool_.threads_per_job()},
+           {"executor", pool_.name()}});
   });
 
   // The API described (OpenAPI 3.1): built once, the registry does not change at run time.
@@ -531,8 +539,10 @@ void HttpServer::routes() {
     const std::int64_t id = job->id;
     switch (store_.request_cancel(id)) {
       case JobStore::CancelResult::cancelled_queued:
+        pool_.cancel_requested(id);  // on a cluster it may be pending there
         return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
       case JobStore::CancelResult::requested_running:
+        pool_.cancel_requested(id);
         return reply(res, 202, {{"id", id}, {"status", "running"}, {"cancel_requested", true}});
       case JobStore::CancelResult::not_found:
         return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));

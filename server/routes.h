@@ -12,7 +12,7 @@
 
 #include "server/connection_loop.h"
 #include "server/store/job_store.h"
-#include "server/worker_pool.h"
+#include "server/executor.h"
 
 
 namespace httplib {
@@ -53,6 +53,8 @@ struct HttpOptions {
   int keep_alive_timeout_ms = 5000;
   int keep_alive_max_requests = 100;
   int max_connections = 512;
+  /// The limit for a job's worker (its secret checked before the body is read): checkpoints, snapshots.
+  std::size_t max_worker_body_bytes = std::size_t(1) << 30;
 };
 
 /// Reads a token file: one `<user> <token> [admin]` per line; blank lines and lines starting with # are
@@ -61,7 +63,7 @@ std::map<std::string, User> read_token_file(const std::string& path, std::string
 
 class HttpServer {
  public:
-  HttpServer(JobStore& store, WorkerPool& pool, const HttpOptions& options = {});
+  HttpServer(JobStore& store, Executor& pool, const HttpOptions& options = {});
   ~HttpServer();
 
   /// Binds to host:port (port 0 = any free port) and returns the port, or -1 on failure.
@@ -96,8 +98,13 @@ class HttpServer {
   void picture_routes();  // picture_routes.cpp
   void export_routes();   // export_routes.cpp
   void web_routes();      // web_routes.cpp
+  void worker_routes();   // worker_routes.cpp
+  /// The job of a worker route's path id, if the request carries its worker's secret (else 404/403/409).
+  std::optional<JobRecord> worker_job(const httplib::Request& req, httplib::Response& res);
+  /// The connection loop's question before reading a large body: is this a job's worker, by its secret?
+  bool worker_may_send(const std::string& target, const std::string& token);
   JobStore& store_;
-  WorkerPool& pool_;
+  Executor& pool_;
   HttpOptions options_;
   std::unique_ptr<LoopServer> http_;
   std::unique_ptr<ConnectionLoop> connections_;

@@ -97,6 +97,8 @@ void HttpServer::sweep_routes() {
       const auto r = store_.request_cancel(j.id);
       cancelled += r == JobStore::CancelResult::cancelled_queued;
       requested += r == JobStore::CancelResult::requested_running;
+      if (r == JobStore::CancelResult::cancelled_queued || r == JobStore::CancelResult::requested_running)
+        pool_.cancel_requested(j.id);
     }
     reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
   }));

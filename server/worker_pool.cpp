@@ -10,6 +10,7 @@
 #include "api/engine_version.h"
 #include "api/runner.h"
 #include "engine/core/checkpoint.h"
+#include "server/resume_point.h"
 #include "server/store/sqlite.h"
 #include "server/store_sink.h"
 
@@ -59,33 +60,10 @@ void WorkerPool::work() {
   }
 }
 
-std::optional<api::Resume> WorkerPool::resume_point(const JobRecord& job) {
-  // A job the daemon lost while it ran resumes from its checkpoint, if one of this build is stored.
-  std::optional<JobStore::Checkpoint> cp;
-  try {
-    cp = store_.checkpoint(job.id);
-    if (!cp) return std::nullopt;
-    if (cp->engine_version != api::engine_version()) {
-      spdlog::warn("job {}: its checkpoint is of another build ({}); it starts afresh", job.id, cp->engine_version);
-      return std::nullopt;  // the fresh run's start_curve drops it with the old results
-    }
-    CheckpointReader whole(cp->state);  // its frame and checksum, before any result is trimmed
-    store_.trim_results(job.id, cp->rows, cp->snapshots);
-  } catch (const CheckpointError& e) {
-    spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job.id, e.what());
-    return std::nullopt;
-  } catch (const std::exception& e) {  // the store failing: a fresh run resets what it can
-    spdlog::error("job {}: cannot read its checkpoint ({}); it starts afresh", job.id, e.what());
-    return std::nullopt;
-  }
-  spdlog::info("job {} resumes from its checkpoint after {} curve rows", job.id, cp->rows);
-  return api::Resume{cp->state, std::size_t(cp->rows), std::size_t(cp->snapshots)};
-}
-
 void WorkerPool::run_job(const JobRecord& job) {
   spdlog::info("job {} started ({})", job.id, job.experiment);
   const auto start = std::chrono::steady_clock::now();
-  std::optional<api::Resume> resume = resume_point(job);
+  std::optional<api::Resume> resume = resume_point(store_, job.id, api::engine_version());
   for (;;) {
     StoreSink sink(store_, job.id, stopping_, progress_seconds_, checkpoint_seconds_, api::engine_version());
     try {

@@ -25,6 +25,7 @@
 #include "api/spec_docs.h"
 #include "clients/cli/files_sink.h"
 #include "clients/cli/remote.h"
+#include "clients/cli/worker.h"
 
 namespace fs = std::filesystem;
 using namespace granulab;
@@ -41,6 +42,7 @@ const char* kUsage =
     "                (server: --server URL or GRANULAB_SERVER; token: GRANULAB_TOKEN)\n"
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
+    "       granulab worker --server URL --job ID [--patience S]   (what granulabd's Slurm jobs run; docs/cluster.md)\n"
     "run: one experiment in-process; writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
     "submit --dry-run: validates and prints the cost (spheres, steps, memory, expected time on that server).\n"
     "sweep: submits a server sweep (every combination of the lists, or paired with --zip), shows a live line per\n"
@@ -203,6 +205,7 @@ int main(int argc, char** argv) {
       std::cout << "granulab " << api::engine_version() << "\n";
       return 0;
     }
+    if (command == "worker") return cli::run_worker(argc, argv);
     if (command == "submit" || command == "sweep" || command == "status" || command == "wait" || command == "results" ||
         command == "cancel" || command == "list" || command == "delete" || command == "priority")
       return cli::run_remote(argc, argv);

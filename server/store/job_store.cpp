@@ -25,7 +25,8 @@ std::int64_t now_ms() {
 // Column order of read_job().
 constexpr const char* kJobColumns =
     "id, status, label, experiment, spec_json, spec_hash, engine_version, owner, error, summary_json, "
-    "priority, progress, eta_seconds, created_ms, started_ms, finished_ms, cancel_requested, sweep_id, sweep_values";
+    "priority, progress, eta_seconds, created_ms, started_ms, finished_ms, cancel_requested, sweep_id, sweep_values, "
+    "slurm_job_id, slurm_state, slurm_attempts";
 
 JobRecord read_job(const Statement& st) {
   JobRecord r;
@@ -48,6 +49,9 @@ JobRecord read_job(const Statement& st) {
   r.cancel_requested = st.column_int64(16) != 0;
   r.sweep_id = st.column_int64(17);
   r.sweep_values = st.column_text(18);
+  r.slurm_job_id = st.column_text(19);
+  r.slurm_state = st.column_text(20);
+  r.slurm_attempts = st.column_int(21);
   return r;
 }
 
@@ -482,15 +486,23 @@ std::optional<std::int64_t> JobStore::find_succeeded(const std::string& spec_has
   return st.column_int64(0);
 }
 
-std::size_t JobStore::requeue_running() {
+std::size_t JobStore::requeue_running(bool keep_cluster_jobs) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   std::vector<std::int64_t> ids;
+  if (!keep_cluster_jobs) {
+    // This daemon runs jobs itself: a Slurm job still running one of them could only collide with it, so
+    // its worker's secret is revoked (its requests get 403) and the job is no longer on the cluster.
+    Statement st(*db_,
+                 "UPDATE jobs SET slurm_job_id = '', worker_token = '', slurm_done = 1 "
+                 "WHERE status IN ('queued', 'running') AND slurm_job_id != ''");
+    st.run();
+  }
   {
     // A cancel asked for before the stop is honoured, not forgotten: the job ends cancelled, with what it
     // had computed.
     std::vector<std::int64_t> cancelled;
-    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' AND cancel_requested = 1 ORDER BY id");
+    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' AND cancel_requested = 1 AND slurm_job_id = '' ORDER BY id");
     while (st.step()) cancelled.push_back(st.column_int64(0));
     for (const std::int64_t id : cancelled) {
       Statement job(*db_, "UPDATE jobs SET status = 'cancelled', eta_seconds = -1, finished_ms = ?2 WHERE id = ?1");
@@ -500,7 +512,7 @@ std::size_t JobStore::requeue_running() {
     }
   }
   {
-    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' ORDER BY id");
+    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' AND slurm_job_id = '' ORDER BY id");
     while (st.step()) ids.push_back(st.column_int64(0));
   }
   for (const std::int64_t id : ids) {

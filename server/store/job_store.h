@@ -45,6 +45,9 @@ struct JobRecord {
   bool cancel_requested = false;
   std::int64_t sweep_id = 0;  ///< 0 = not part of a sweep
   std::string sweep_values;   ///< JSON {"dotted.key": value} of its point in the sweep
+  std::string slurm_job_id;   ///< the Slurm job running it ("123", "123_4" in an array); empty = none
+  std::string slurm_state;    ///< Slurm's latest word on that job, e.g. "PENDING (Priority)"
+  int slurm_attempts = 0;     ///< Slurm jobs it was given (more than one after a requeue)
 };
 
 struct SweepRecord {
@@ -175,9 +178,31 @@ class JobStore {
   std::optional<std::int64_t> find_succeeded(const std::string& spec_hash, const std::string& engine_version);
 
   /// Daemon start-up: every job left running by a previous process goes back to the queue (progress 0,
-  /// started_ms 0, cancel_requested cleared, its partial curve and snapshots dropped) with a "requeued" event.
-  /// Returns how many. Call before any worker starts.
-  std::size_t requeue_running();
+  /// started_ms 0, cancel_requested cleared, its partial curve and snapshots dropped unless a checkpoint
+  /// keeps them) with a "requeued" event. Returns how many. Call before any worker starts.
+  /// `keep_cluster_jobs`: jobs on a Slurm cluster are left as they are (their Slurm jobs still run them);
+  /// otherwise they are taken back too.
+  std::size_t requeue_running(bool keep_cluster_jobs = false);
+
+  // Jobs on a Slurm cluster (server/slurm/slurm_executor.h); job_store_cluster.cpp.
+  /// Queued jobs not yet given to the cluster, best first (priority, then age), at most `limit`.
+  std::vector<JobRecord> unsubmitted(int limit);
+  /// The secret the job's worker presents, set to `fresh` the first time (then kept); empty for an unknown
+  /// job, or when none is set and `fresh` is empty.
+  std::string worker_token(std::int64_t id, const std::string& fresh = "");
+  /// The job went to Slurm as `slurm_job_id`: only while it is queued and not on the cluster yet (false
+  /// otherwise, e.g. cancelled meanwhile).
+  bool set_slurm_job(std::int64_t id, const std::string& slurm_job_id);
+  /// Jobs whose Slurm job has not been seen to end, whatever their status (a cancelled one may still need
+  /// its Slurm job cancelled).
+  std::vector<JobRecord> on_cluster();
+  /// Slurm's latest word on the job's Slurm job; `ended`: that Slurm job is over.
+  void set_slurm_state(std::int64_t id, const std::string& state, bool ended);
+  /// Its worker started: queued -> running (started_ms now). True if it is running now.
+  bool mark_running(std::int64_t id);
+  /// Back in the queue for another Slurm job (a time limit, a lost node), its checkpoint and the results up
+  /// to it kept; false unless queued or running.
+  bool requeue_for_cluster(std::int64_t id, const std::string& reason);
 
   /// Appends to the event log; job_id 0 = an event about the daemon, not one job (an unknown job id
   /// throws: the foreign key).

@@ -105,6 +105,18 @@ ALTER TABLE jobs ADD COLUMN sweep_id INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN sweep_values TEXT NOT NULL DEFAULT '';
 CREATE INDEX jobs_by_sweep ON jobs (sweep_id, id);
 )sql",
+    // 5: jobs on a Slurm cluster (server/slurm/). slurm_job_id: the Slurm job that runs it ("123", or "123_4"
+    // for task 4 of array 123), '' when none; slurm_state: Slurm's latest word on it ("PENDING (Priority)");
+    // slurm_done: that Slurm job has ended; slurm_attempts: Slurm jobs it was given (a requeue after a time
+    // limit gives another); worker_token: the secret its worker presents to the daemon.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN slurm_job_id TEXT NOT NULL DEFAULT '';
+ALTER TABLE jobs ADD COLUMN slurm_state TEXT NOT NULL DEFAULT '';
+ALTER TABLE jobs ADD COLUMN slurm_done INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN slurm_attempts INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN worker_token TEXT NOT NULL DEFAULT '';
+CREATE INDEX jobs_on_cluster ON jobs (slurm_done, slurm_job_id);
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/routes.h"
+#include "server/worker_pool.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>

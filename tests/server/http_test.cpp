@@ -22,6 +22,7 @@
 #include "api/engine_version.h"
 #include "api/runner.h"
 #include "server/routes.h"
+#include "server/worker_pool.h"
 #include "tests/server/daemon_fixture.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.

@@ -1,0 +1,177 @@
+#include "clients/cli/remote_sink.h"
+
+#include <csignal>
+#include <optional>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "api/curve_format.h"
+#include "api/engine_version.h"
+#include "api/snapshot_files.h"
+#include "engine/core/checkpoint.h"
+
+// After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
+#include <httplib.h>
+
+namespace granulab::cli {
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+const char* signal_reason(int sig) {
+  return sig == SIGUSR1 ? "signal USR1: Slurm's warning before the time limit" : "signal TERM: Slurm stopped the job";
+}
+
+}  // namespace
+
+DaemonLink::DaemonLink(const std::string& server, std::int64_t job, std::string token, std::string slurm_job_id,
+                       double patience_seconds)
+    : server_(server),
+      job_(job),
+      token_(std::move(token)),
+      slurm_job_id_(std::move(slurm_job_id)),
+      patience_(patience_seconds),
+      http_(std::make_unique<httplib::Client>(server)) {
+  if (!http_->is_valid()) throw std::invalid_argument("cannot use server URL '" + server + "'");
+  http_->set_connection_timeout(5);
+  http_->set_read_timeout(120);  // a checkpoint of a large crystal takes a while to store
+  http_->set_write_timeout(120);
+}
+
+DaemonLink::~DaemonLink() = default;
+
+std::string DaemonLink::get(const std::string& suffix) { return request("GET", suffix, "", ""); }
+
+std::string DaemonLink::post(const std::string& suffix, const std::string& body, const std::string& content_type) {
+  return request("POST", suffix, body, content_type);
+}
+
+json DaemonLink::post_json(const std::string& suffix, const json& body) {
+  return json::parse(post(suffix, body.dump(), "application/json"));
+}
+
+std::string DaemonLink::request(const std::string& method, const std::string& suffix, const std::string& body,
+                                const std::string& content_type) {
+  const std::string path = "/v1/worker/jobs/" + std::to_string(job_) + suffix;
+  httplib::Headers headers = {{"X-Worker-Token", token_}};
+  if (!slurm_job_id_.empty()) headers.emplace("X-Slurm-Job-Id", slurm_job_id_);
+  std::optional<Clock::time_point> failing_since;
+  double wait = 0.5;
+  for (;;) {
+    const httplib::Result r = method == "GET" ? http_->Get(path, headers) : http_->Post(path, headers, body, content_type);
+    std::string problem;
+    if (!r) {
+      problem = "cannot reach " + server_ + " (" + httplib::to_string(r.error()) + ")";
+    } else if (r->status < 400) {
+      if (failing_since) spdlog::info("the daemon answers again after {:.0f} s", seconds_since(*failing_since));
+      return r->body;
+    } else if (r->status >= 500 || r->status == 429 || r->status == 408) {
+      problem = method + " " + path + " answered " + std::to_string(r->status);
+    } else {
+      std::string code = "http_error", message = r->body;
+      const json e = json::parse(r->body, nullptr, false);
+      if (e.is_object() && e.contains("error") && e["error"].is_object()) {
+        code = e["error"].value("code", code);
+        message = e["error"].value("message", message);
+      }
+      throw Refused(r->status, code, method + " " + path + ": " + std::to_string(r->status) + " " + message);
+    }
+    // The daemon away (restarting, overloaded): keep trying for the patience, the run waiting meanwhile.
+    if (!failing_since) {
+      failing_since = Clock::now();
+      spdlog::warn("{}; retrying for up to {:.0f} s", problem, patience_);
+    }
+    if (seconds_since(*failing_since) > patience_)
+      throw std::runtime_error(problem + ", for " + std::to_string(int(patience_)) + " s");
+    std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+    wait = std::min(2 * wait, 5.0);
+  }
+}
+
+RemoteSink::RemoteSink(DaemonLink& link, const std::atomic<int>& stop_signal, double flush_seconds,
+                       double checkpoint_seconds, std::string engine_version)
+    : link_(link),
+      stop_signal_(stop_signal),
+      flush_seconds_(flush_seconds),
+      checkpoint_seconds_(checkpoint_seconds),
+      engine_version_(std::move(engine_version)),
+      start_(Clock::now()),
+      last_flush_(start_),
+      last_checkpoint_(start_) {}
+
+void RemoteSink::begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) {
+  columns_ = columns;
+  json body = {{"header", api::curve_csv_header(columns)}, {"resume_rows", nullptr}};
+  if (resume) body["resume_rows"] = resume->rows;
+  try {
+    link_.post_json("/begin", body);
+  } catch (const Refused& e) {
+    if (e.code == "cannot_resume") throw CheckpointError(e.what());  // the worker starts afresh
+    throw;
+  }
+  rows_sent_ = resume ? resume->rows : 0;
+}
+
+void RemoteSink::curve_row(const std::vector<double>& values) { lines_.push_back(api::curve_csv_line(columns_, values)); }
+
+void RemoteSink::snapshot(std::size_t index, const GrainSnapshot& s) {
+  snapshots_.push_back({{"index", index}, {"strain", s.strain}, {"data", api::snapshot_json(s).dump()}});
+}
+
+bool RemoteSink::flush() {
+  const double elapsed = seconds_since(start_);
+  const json answer = link_.post_json("/results", {{"first_index", rows_sent_},
+                                                    {"lines", lines_},
+                                                    {"snapshots", snapshots_},
+                                                    {"progress", fraction_},
+                                                    {"eta_seconds", fraction_ > 0 ? elapsed * (1 - fraction_) / fraction_ : -1.0}});
+  rows_sent_ += lines_.size();
+  lines_.clear();
+  snapshots_ = json::array();
+  last_flush_ = Clock::now();
+  cancel_ = cancel_ || answer.value("cancel", false);  // a flush for a checkpoint sees it too
+  return cancel_;
+}
+
+void RemoteSink::interrupted() const { throw Interrupted(signal_reason(stop_signal_)); }
+
+bool RemoteSink::progress(double fraction) {
+  fraction_ = fraction;
+  if (stop_signal_) {
+    // As the daemon's own sink on shutdown: on to the next safe point for a checkpoint, then stop; without
+    // checkpoints, or if none comes within half a second, stop here (the job resumes from the last one).
+    if (checkpoint_seconds_ <= 0) interrupted();
+    if (!stop_seen_) stop_seen_ = Clock::now();
+    if (seconds_since(*stop_seen_) > 0.5) interrupted();
+    return true;
+  }
+  if (cancel_) return false;
+  if (seconds_since(last_flush_) < flush_seconds_) return true;
+  return !flush();
+}
+
+bool RemoteSink::checkpoint_due() {
+  if (checkpoint_seconds_ <= 0) return false;
+  return stop_signal_ || seconds_since(last_checkpoint_) >= checkpoint_seconds_;
+}
+
+void RemoteSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+  flush();  // the rows and snapshots it follows are stored first
+  link_.post("/checkpoint?rows=" + std::to_string(rows) + "&snapshots=" + std::to_string(snapshots) +
+                 "&engine_version=" + httplib::detail::encode_query_param(engine_version_),
+             state, "application/octet-stream");
+  last_checkpoint_ = Clock::now();
+  if (stop_signal_) interrupted();
+}
+
+void RemoteSink::summary(const json& summary) {
+  flush();
+  link_.post_json("/end", {{"outcome", "succeeded"}, {"summary", summary}});
+}
+
+}  // namespace granulab::cli

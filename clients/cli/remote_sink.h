@@ -1,0 +1,97 @@
+// The JobSink of `granulab worker`: a job running on a cluster node sends what it makes to the daemon that
+// owns the job (server/worker_routes.cpp), as the daemon's own StoreSink would store it: curve rows and
+// snapshots in batches at most every `flush_seconds` with the progress (whose answer carries a cancel
+// request), checkpoints every `checkpoint_seconds`, the summary at the end. A daemon that does not answer
+// (restarting, a network blip) is retried for `patience` seconds while the run waits, so nothing is
+// lost or sent twice: every request is idempotent on the daemon's side.
+// A stop signal (SIGUSR1 from Slurm before the time limit, SIGTERM) makes the run store a checkpoint at
+// its next safe point and end with Interrupted.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/job_sink.h"
+
+namespace httplib {
+class Client;
+}
+
+namespace granulab::cli {
+
+/// The run stopped for a signal (its checkpoint, if one was due, is stored).
+struct Interrupted : std::runtime_error {
+  explicit Interrupted(const std::string& why) : std::runtime_error(why) {}
+};
+
+/// The daemon refused a request (4xx other than a retryable one): its status and message.
+struct Refused : std::runtime_error {
+  Refused(int status, const std::string& code, const std::string& message)
+      : std::runtime_error(message), status(status), code(code) {}
+  int status;
+  std::string code;
+};
+
+/// One job's connection to its daemon: the worker routes with the job's secret, retried while the daemon
+/// is away.
+class DaemonLink {
+ public:
+  DaemonLink(const std::string& server, std::int64_t job, std::string token, std::string slurm_job_id,
+             double patience_seconds);
+  ~DaemonLink();
+  /// GET/POST on /v1/worker/jobs/{job}{suffix}; the answer's body. Throws Refused on a 4xx, and
+  /// std::runtime_error when the daemon stayed unreachable (or answered 5xx) for the whole patience.
+  std::string get(const std::string& suffix);
+  std::string post(const std::string& suffix, const std::string& body, const std::string& content_type);
+  nlohmann::json post_json(const std::string& suffix, const nlohmann::json& body);
+  std::int64_t job() const { return job_; }
+
+ private:
+  std::string request(const std::string& method, const std::string& suffix, const std::string& body,
+                      const std::string& content_type);
+  std::string server_;
+  std::int64_t job_;
+  std::string token_, slurm_job_id_;
+  double patience_;
+  std::unique_ptr<httplib::Client> http_;
+};
+
+class RemoteSink : public api::JobSink {
+ public:
+  /// `stop_signal`: set (to the signal's number) by the worker's handler.
+  RemoteSink(DaemonLink& link, const std::atomic<int>& stop_signal, double flush_seconds, double checkpoint_seconds,
+             std::string engine_version);
+  void begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) override;
+  void curve_row(const std::vector<double>& values) override;
+  void snapshot(std::size_t index, const GrainSnapshot& s) override;
+  bool progress(double fraction) override;
+  bool checkpoint_due() override;
+  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
+  void summary(const nlohmann::json& summary) override;
+  /// Sends what is buffered; true once the daemon has asked to stop (a cancel).
+  bool flush();
+
+ private:
+  [[noreturn]] void interrupted() const;
+  DaemonLink& link_;
+  const std::atomic<int>& stop_signal_;
+  double flush_seconds_, checkpoint_seconds_;
+  std::string engine_version_;
+  std::vector<CurveColumn> columns_;
+  std::vector<std::string> lines_;  // not yet sent
+  nlohmann::json snapshots_ = nlohmann::json::array();
+  std::size_t rows_sent_ = 0;
+  double fraction_ = 0;
+  bool cancel_ = false;  ///< the daemon asked to stop
+  std::chrono::steady_clock::time_point start_, last_flush_, last_checkpoint_;
+  std::optional<std::chrono::steady_clock::time_point> stop_seen_;
+};
+
+}  // namespace granulab::cli

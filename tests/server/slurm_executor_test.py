@@ -1,0 +1,361 @@
+#!/usr/bin/python3
+"""granulabd --executor slurm against a real one-node Slurm cluster on loopback (issue 13).
+
+Installs Debian's slurm-wlm, munge, slurmrestd and slurm-wlm-jwt-plugin when missing (as root; a busy dpkg
+lock is waited for), starts munged, slurmctld, slurmd and slurmrestd under a temp dir on free ports, then
+granulabd with --executor slurm, and checks:
+- a sweep's three jobs run as one Slurm job array and their curves equal `granulab run` of the same specs;
+- a cancel through the API reaches Slurm (the Slurm job ends CANCELLED);
+- a job longer than its Slurm time limit is warned (USR1), checkpoints, is requeued as a new Slurm job,
+  resumes and finishes with the curve of an uninterrupted local run;
+- granulabd stopped and started again while jobs run on the cluster neither loses nor repeats them.
+Everything it started is stopped by PID. Standard library only.
+"""
+import csv
+import io
+import json
+import os
+import secrets
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
+from granulab_client import Client  # noqa: E402
+
+DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
+PACKAGES = ["slurm-wlm", "munge", "slurmrestd", "slurm-wlm-jwt-plugin"]
+
+# A few seconds each on one thread: two cubes at N_e = 4.
+def short_spec(rate):
+    return {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4},
+            "loading": {"rate_number": rate, "max_slide": 0.3}, "output": {"curve_points": 30}}
+
+# About 80 s on one thread: longer than the 1-minute Slurm time limit the daemon gets here.
+LONG_SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 6},
+             "loading": {"rate_number": 5e-7, "max_slide": 0.4}, "output": {"curve_points": 40}}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def installed(package):
+    r = subprocess.run(["dpkg-query", "-W", "-f=${Status}", package], capture_output=True, text=True)
+    return "ok installed" in r.stdout
+
+
+def install_missing():
+    missing = [p for p in PACKAGES if not installed(p)]
+    if not missing:
+        return
+    if os.geteuid() != 0:
+        raise unittest.SkipTest("Slurm packages missing and not root: " + " ".join(missing))
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    lock = ["-o", "DPkg::Lock::Timeout=600"]
+    subprocess.run(["apt-get", *lock, "update"], check=True, env=env, stdout=subprocess.DEVNULL)
+    subprocess.run(["apt-get", *lock, "install", "-y", "--no-install-recommends", *missing], check=True, env=env,
+                   stdout=subprocess.DEVNULL)
+
+
+def pid_alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(")")[-1].split()[0] != "Z"  # a zombie is gone
+    except OSError:
+        return False
+
+
+def stop_pid(pid, timeout=20):
+    if not pid or not pid_alive(pid):
+        return
+    try:
+        os.kill(pid, signal.SIGTERM)
+    except ProcessLookupError:
+        return
+    deadline = time.time() + timeout
+    while time.time() < deadline and pid_alive(pid):
+        time.sleep(0.1)
+    if pid_alive(pid):
+        os.kill(pid, signal.SIGKILL)
+
+
+class Cluster:
+    """munged, slurmctld, slurmd and slurmrestd under `root`, on free loopback ports."""
+
+    def __init__(self, root):
+        self.root = root
+        self.pids = {}
+        self.restd = None
+        self.rest_port = free_port()
+        self.conf = os.path.join(root, "slurm.conf")
+        self.jwt_key = os.path.join(root, "jwt.key")
+        self.jobcomp = os.path.join(root, "jobcomp.txt")
+
+    def path(self, *parts):
+        return os.path.join(self.root, *parts)
+
+    def start(self):
+        for d in ["munge_key", "munge_sock", "state", "spool/localhost", "log", "run"]:
+            os.makedirs(self.path(d), exist_ok=True)
+        os.chmod(self.path("munge_key"), 0o700)
+        os.chmod(self.path("munge_sock"), 0o755)
+        key = self.path("munge_key", "munge.key")
+        subprocess.run(["mungekey", "--create", f"--keyfile={key}"], check=True)
+        self.socket = self.path("munge_sock", "munge.socket")
+        subprocess.run(["munged", f"--key-file={key}", f"--socket={self.socket}",
+                        f"--pid-file={self.path('run', 'munged.pid')}", f"--seed-file={self.path('run', 'munge.seed')}",
+                        f"--log-file={self.path('log', 'munged.log')}"], check=True)
+        self.pids["munged"] = self.read_pid("munged.pid")
+        with open(self.jwt_key, "wb") as f:
+            f.write(secrets.token_bytes(32))
+        os.chmod(self.jwt_key, 0o600)
+        node = subprocess.run(["slurmd", "-C"], capture_output=True, text=True, check=True).stdout.splitlines()[0]
+        node_fields = [f for f in node.split() if not f.startswith(("NodeName=", "RealMemory="))]
+        conf = f"""ClusterName=granulabtest
+SlurmctldHost=localhost(127.0.0.1)
+SlurmctldPort={free_port()}
+SlurmdPort={free_port()}
+SlurmUser=root
+AuthType=auth/munge
+CredType=cred/munge
+AuthInfo=socket={self.socket}
+AuthAltTypes=auth/jwt
+AuthAltParameters=jwt_key={self.jwt_key}
+StateSaveLocation={self.path('state')}
+SlurmdSpoolDir={self.path('spool')}
+SlurmctldPidFile={self.path('run', 'slurmctld.pid')}
+SlurmdPidFile={self.path('run', 'slurmd.pid')}
+SlurmctldLogFile={self.path('log', 'slurmctld.log')}
+SlurmdLogFile={self.path('log', 'slurmd.log')}
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+EnforcePartLimits=ALL
+AccountingStorageType=accounting_storage/none
+JobCompType=jobcomp/filetxt
+JobCompLoc={self.jobcomp}
+MinJobAge=3600
+MailProg=/bin/true
+ReturnToService=2
+NodeName=localhost NodeHostname=localhost NodeAddr=127.0.0.1 RealMemory=1000 {' '.join(node_fields)}
+PartitionName=main Nodes=localhost Default=YES MaxTime=INFINITE State=UP
+"""
+        with open(self.conf, "w") as f:
+            f.write(conf)
+        subprocess.run(["slurmctld", "-f", self.conf], check=True)
+        self.pids["slurmctld"] = self.read_pid("slurmctld.pid")
+        subprocess.run(["slurmd", "-f", self.conf, "-N", "localhost"], check=True)
+        self.pids["slurmd"] = self.read_pid("slurmd.pid")
+        env = dict(os.environ, SLURM_JWT="daemon", SLURM_CONF=self.conf)
+        self.restd = subprocess.Popen(["slurmrestd", "-f", self.conf, "-u", "nobody", "-a", "rest_auth/jwt", "-s",
+                                       "openapi/v0.0.38", f"127.0.0.1:{self.rest_port}"], env=env,
+                                      stdout=open(self.path("log", "slurmrestd.log"), "w"), stderr=subprocess.STDOUT)
+        self.pids["slurmrestd"] = self.restd.pid
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            r = subprocess.run(["sinfo", "-h", "-o", "%T"], capture_output=True, text=True,
+                               env=dict(os.environ, SLURM_CONF=self.conf))
+            if r.stdout.strip() == "idle" and self.rest_answers():
+                return
+            time.sleep(0.3)
+        raise RuntimeError("the Slurm cluster did not come up: " + self.logs())
+
+    def rest_answers(self):
+        try:
+            with socket.create_connection(("127.0.0.1", self.rest_port), timeout=1):
+                return True
+        except OSError:
+            return False
+
+    def read_pid(self, name):
+        path = self.path("run", name)
+        for _ in range(100):
+            if os.path.exists(path):
+                with open(path) as f:
+                    text = f.read().strip()
+                if text:
+                    return int(text)
+            time.sleep(0.1)
+        raise RuntimeError(f"no pid file {path}")
+
+    def squeue(self):
+        r = subprocess.run(["squeue", "-h", "-o", "%i %T"], capture_output=True, text=True,
+                           env=dict(os.environ, SLURM_CONF=self.conf))
+        return r.stdout.strip()
+
+    def completed(self):
+        """The jobcomp file: one {JobId, JobName, JobState, ...} per finished Slurm job."""
+        if not os.path.exists(self.jobcomp):
+            return []
+        out = []
+        with open(self.jobcomp) as f:
+            for line in f:
+                out.append(dict(kv.split("=", 1) for kv in line.split() if "=" in kv))
+        return out
+
+    def logs(self):
+        text = ""
+        for name in ["slurmctld.log", "slurmd.log", "slurmrestd.log"]:
+            p = self.path("log", name)
+            if os.path.exists(p):
+                with open(p, errors="replace") as f:
+                    text += f"\n--- {name}\n" + "".join(f.readlines()[-15:])
+        return text
+
+    def stop(self):
+        env = dict(os.environ, SLURM_CONF=self.conf)
+        if pid_alive(self.pids.get("slurmctld", 0)):
+            subprocess.run(["scancel", "--full", "-u", "root"], env=env, capture_output=True)
+            deadline = time.time() + 30
+            while time.time() < deadline and self.squeue():
+                time.sleep(0.3)
+        for name in ["slurmrestd", "slurmd", "slurmctld", "munged"]:
+            stop_pid(self.pids.get(name))
+        if self.restd:
+            self.restd.wait(timeout=10)
+
+
+class SlurmExecutorTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        install_missing()
+        cls.dir = tempfile.mkdtemp(prefix="granulab_slurm_")
+        cls.cluster = Cluster(os.path.join(cls.dir, "cluster"))
+        os.makedirs(cls.cluster.root)
+        try:
+            cls.cluster.start()
+        except Exception:
+            cls.cluster.stop()
+            raise
+        cls.port = free_port()
+        cls.db = os.path.join(cls.dir, "jobs.db")
+        cls.daemon = None
+        cls.client = Client(f"http://127.0.0.1:{cls.port}", timeout=20)
+        cls.start_daemon()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.stop_daemon()
+        cls.cluster.stop()
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    @classmethod
+    def start_daemon(cls):
+        log = open(os.path.join(cls.dir, "granulabd.log"), "a")
+        cls.daemon = subprocess.Popen(
+            [DAEMON, "--port", str(cls.port), "--db", cls.db, "--threads", "1", "--checkpoint-seconds", "3",
+             "--executor", "slurm", "--slurm-url", f"http://127.0.0.1:{cls.cluster.rest_port}", "--slurm-user", "root",
+             "--slurm-jwt-key", cls.cluster.jwt_key, "--slurm-time-limit", "1", "--slurm-signal-seconds", "30",
+             "--slurm-output", os.path.join(cls.dir, "slurm-%j.out")],
+            stdout=log, stderr=subprocess.STDOUT, env=dict(os.environ, SLURM_CONF=cls.cluster.conf))
+        deadline = time.time() + 30
+        while time.time() < deadline:
+            if cls.daemon.poll() is not None:
+                raise RuntimeError("granulabd exited: " + cls.daemon_log())
+            try:
+                if cls.client.health().get("executor") == "slurm":
+                    return
+            except Exception:
+                time.sleep(0.1)
+        raise RuntimeError("granulabd did not start: " + cls.daemon_log())
+
+    @classmethod
+    def stop_daemon(cls):
+        if cls.daemon and cls.daemon.poll() is None:
+            cls.daemon.send_signal(signal.SIGTERM)
+            cls.daemon.wait(timeout=30)
+        cls.daemon = None
+
+    @classmethod
+    def daemon_log(cls):
+        with open(os.path.join(cls.dir, "granulabd.log"), errors="replace") as f:
+            return "".join(f.readlines()[-30:])
+
+    def local_curve(self, spec, name):
+        path = os.path.join(self.dir, name + ".json")
+        with open(path, "w") as f:
+            json.dump(spec, f)
+        out = os.path.join(self.dir, name)
+        subprocess.run([CLI, "run", path, "--out", out, "--threads", "1", "--quiet"], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(os.path.join(out, "curve.csv")) as f:
+            return f.read()
+
+    def wait_for(self, job_id, statuses, timeout):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            job = self.client.status(job_id)
+            if job["status"] in statuses:
+                return job
+            time.sleep(0.3)
+        self.fail(f"job {job_id} not {statuses} within {timeout} s: {self.client.status(job_id)}\n"
+                  f"{self.daemon_log()}{self.cluster.logs()}")
+
+    def test_1_sweep_runs_as_a_job_array_with_local_curves(self):
+        sweep = self.client.submit_sweep(short_spec(1e-5), {"loading.rate_number": [1e-5, 2e-5, 4e-5]})
+        jobs = sweep["jobs"]
+        done = [self.wait_for(j, {"succeeded", "failed", "cancelled"}, 120) for j in jobs]
+        for job in done:
+            self.assertEqual(job["status"], "succeeded", job)
+        arrays = {job["slurm_job_id"].split("_")[0] for job in done}
+        self.assertEqual(len(arrays), 1, f"one array for the sweep: {[j['slurm_job_id'] for j in done]}")
+        self.assertEqual(sorted(job["slurm_job_id"].split("_")[1] for job in done), ["0", "1", "2"])
+        for job, rate in zip(done, [1e-5, 2e-5, 4e-5]):
+            self.assertEqual(self.client.curve_csv(job["id"]), self.local_curve(short_spec(rate), f"local_{rate}"),
+                             f"job {job['id']} (Slurm {job['slurm_job_id']}) against a local run")
+
+    def test_2_cancel_reaches_slurm(self):
+        job_id = self.client.submit(LONG_SPEC)["id"]
+        job = self.wait_for(job_id, {"running"}, 60)
+        slurm_id = job["slurm_job_id"]
+        self.client.cancel(job_id)
+        self.wait_for(job_id, {"cancelled"}, 60)
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            ended = [c for c in self.cluster.completed() if c.get("JobId") == slurm_id]
+            if ended:
+                self.assertEqual(ended[0].get("JobState"), "CANCELLED", ended[0])
+                return
+            time.sleep(0.3)
+        self.fail(f"Slurm job {slurm_id} did not end: {self.cluster.squeue()}")
+
+    def test_3_time_limit_requeues_from_the_checkpoint(self):
+        job_id = self.client.submit(LONG_SPEC)["id"]
+        first = self.wait_for(job_id, {"running"}, 60)["slurm_job_id"]
+        done = self.wait_for(job_id, {"succeeded", "failed", "cancelled"}, 300)
+        self.assertEqual(done["status"], "succeeded", done)
+        self.assertNotEqual(done["slurm_job_id"], first, "the job ran past its 1-minute limit in one Slurm job")
+        self.assertEqual(self.client.curve_csv(job_id), self.local_curve(LONG_SPEC, "local_long"),
+                         "the requeued run's curve differs from an uninterrupted local run")
+
+    def test_4_daemon_restart_neither_loses_nor_repeats_jobs(self):
+        ids = [self.client.submit(short_spec(rate))["id"] for rate in (5e-6, 6e-6)]
+        running = self.wait_for(ids[0], {"running"}, 60)
+        self.stop_daemon()
+        time.sleep(3)  # the workers keep running, and retry the daemon
+        self.start_daemon()
+        done = [self.wait_for(j, {"succeeded", "failed", "cancelled"}, 180) for j in ids]
+        for job in done:
+            self.assertEqual(job["status"], "succeeded", job)
+        self.assertEqual(done[0]["slurm_job_id"], running["slurm_job_id"], "the restart submitted it again")
+        names = [c.get("JobName", "") for c in self.cluster.completed()]
+        for j in ids:
+            self.assertEqual(sum(1 for n in names if n == f"granulab-{j}" or n.startswith(f"granulab-{j}-")), 1, names)
+        for job, rate in zip(done, (5e-6, 6e-6)):
+            self.assertEqual(self.client.curve_csv(job["id"]), self.local_curve(short_spec(rate), f"restart_{rate}"))
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
