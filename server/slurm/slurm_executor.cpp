@@ -52,7 +52,7 @@ set -u
 IFS=, read -ra entries <<< "$GRANULAB_WORKER_JOBS"
 entry=${entries[${SLURM_ARRAY_TASK_ID:-0}]}
 export GRANULAB_WORKER_TOKEN=${entry#*:}
-exec srun --ntasks=1 --cpus-per-task="$SLURM_CPUS_PER_TASK" "$GRANULAB_WORKER_BINARY" worker \
+exec srun --ntasks=1 --cpus-per-task="$GRANULAB_CPUS" "$GRANULAB_WORKER_BINARY" worker \
   --server "$GRANULAB_SERVER" --job "${entry%%:*}"
 )";
 
@@ -164,7 +164,9 @@ void SlurmExecutor::submit_queued() {
                   {{"PATH", "/usr/local/bin:/usr/bin:/bin"},
                    {"GRANULAB_SERVER", options_.public_url},
                    {"GRANULAB_WORKER_BINARY", options_.worker_binary},
-                   {"GRANULAB_WORKER_JOBS", entries}}}};
+                   {"GRANULAB_WORKER_JOBS", entries},
+                   // Slurm sets SLURM_CPUS_PER_TASK for sbatch --cpus-per-task, not for a REST submission.
+                   {"GRANULAB_CPUS", std::to_string(batch.threads)}}}};
     // The warning comes `signal_seconds` before the limit; for short limits, halfway through.
     desc["signal"] = "USR1@" + std::to_string(std::min(options_.signal_seconds, batch.minutes * 30));
     if (!options_.partition.empty()) desc["partition"] = options_.partition;

@@ -34,13 +34,14 @@ DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
 PACKAGES = ["slurm-wlm", "munge", "slurmrestd", "slurm-wlm-jwt-plugin"]
 
-# A few seconds each on one thread: two cubes at N_e = 4.
+# Two cubes at N_e = 4 on one thread: 0.6 s at rate 1e-5, 9 s at 6e-7.
 def short_spec(rate):
     return {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4},
             "loading": {"rate_number": rate, "max_slide": 0.3}, "output": {"curve_points": 30}}
 
-# About 80 s on one thread: longer than the 1-minute Slurm time limit the daemon gets here.
-LONG_SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 6},
+# About 40 s on one thread (4 million steps): with the 1-minute Slurm time limit the daemon sets here, Slurm's
+# warning (30 s before the limit, checked every ~30 s) comes 20-30 s into each Slurm job.
+LONG_SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 10},
              "loading": {"rate_number": 5e-7, "max_slide": 0.4}, "output": {"curve_points": 40}}
 
 
@@ -196,7 +197,7 @@ PartitionName=main Nodes=localhost Default=YES MaxTime=INFINITE State=UP
         return r.stdout.strip()
 
     def completed(self):
-        """The jobcomp file: one {JobId, JobName, JobState, ...} per finished Slurm job."""
+        """The jobcomp file: one {JobId, Name, JobState, ...} per finished Slurm job."""
         if not os.path.exists(self.jobcomp):
             return []
         out = []
@@ -232,6 +233,7 @@ class SlurmExecutorTest(unittest.TestCase):
     def setUpClass(cls):
         install_missing()
         cls.dir = tempfile.mkdtemp(prefix="granulab_slurm_")
+        os.chmod(cls.dir, 0o755)  # munged wants its socket's folders searchable by all
         cls.cluster = Cluster(os.path.join(cls.dir, "cluster"))
         os.makedirs(cls.cluster.root)
         try:
@@ -249,17 +251,20 @@ class SlurmExecutorTest(unittest.TestCase):
     def tearDownClass(cls):
         cls.stop_daemon()
         cls.cluster.stop()
-        shutil.rmtree(cls.dir, ignore_errors=True)
+        if not os.environ.get("GRANULAB_KEEP_TEST_DIR"):
+            shutil.rmtree(cls.dir, ignore_errors=True)
 
     @classmethod
-    def start_daemon(cls):
+    def start_daemon(cls, time_limit=1):
+        """granulabd on the cluster; `time_limit`: --slurm-time-limit (min), the Slurm jobs' limit here."""
         log = open(os.path.join(cls.dir, "granulabd.log"), "a")
         cls.daemon = subprocess.Popen(
             [DAEMON, "--port", str(cls.port), "--db", cls.db, "--threads", "1", "--checkpoint-seconds", "3",
              "--executor", "slurm", "--slurm-url", f"http://127.0.0.1:{cls.cluster.rest_port}", "--slurm-user", "root",
-             "--slurm-jwt-key", cls.cluster.jwt_key, "--slurm-time-limit", "1", "--slurm-signal-seconds", "30",
+             "--slurm-jwt-key", cls.cluster.jwt_key, "--slurm-time-limit", str(time_limit), "--slurm-signal-seconds", "30",
              "--slurm-output", os.path.join(cls.dir, "slurm-%j.out")],
             stdout=log, stderr=subprocess.STDOUT, env=dict(os.environ, SLURM_CONF=cls.cluster.conf))
+        log.close()  # the daemon has its own descriptor
         deadline = time.time() + 30
         while time.time() < deadline:
             if cls.daemon.poll() is not None:
@@ -280,8 +285,14 @@ class SlurmExecutorTest(unittest.TestCase):
 
     @classmethod
     def daemon_log(cls):
+        """The daemon's last lines, and the Slurm jobs' output (the workers' logs)."""
         with open(os.path.join(cls.dir, "granulabd.log"), errors="replace") as f:
-            return "".join(f.readlines()[-30:])
+            text = "".join(f.readlines()[-30:])
+        for name in sorted(os.listdir(cls.dir)):
+            if name.startswith("slurm-") and name.endswith(".out"):
+                with open(os.path.join(cls.dir, name), errors="replace") as f:
+                    text += f"\n--- {name}\n" + "".join(f.readlines()[-10:])
+        return text
 
     def local_curve(self, spec, name):
         path = os.path.join(self.dir, name + ".json")
@@ -304,11 +315,10 @@ class SlurmExecutorTest(unittest.TestCase):
                   f"{self.daemon_log()}{self.cluster.logs()}")
 
     def test_1_sweep_runs_as_a_job_array_with_local_curves(self):
-        sweep = self.client.submit_sweep(short_spec(1e-5), {"loading.rate_number": [1e-5, 2e-5, 4e-5]})
-        jobs = sweep["jobs"]
+        _, jobs = self.client.submit_sweep(short_spec(1e-5), {"loading.rate_number": [1e-5, 2e-5, 4e-5]})
         done = [self.wait_for(j, {"succeeded", "failed", "cancelled"}, 120) for j in jobs]
         for job in done:
-            self.assertEqual(job["status"], "succeeded", job)
+            self.assertEqual(job["status"], "succeeded", f"{job}\n{self.daemon_log()}")
         arrays = {job["slurm_job_id"].split("_")[0] for job in done}
         self.assertEqual(len(arrays), 1, f"one array for the sweep: {[j['slurm_job_id'] for j in done]}")
         self.assertEqual(sorted(job["slurm_job_id"].split("_")[1] for job in done), ["0", "1", "2"])
@@ -317,7 +327,7 @@ class SlurmExecutorTest(unittest.TestCase):
                              f"job {job['id']} (Slurm {job['slurm_job_id']}) against a local run")
 
     def test_2_cancel_reaches_slurm(self):
-        job_id = self.client.submit(LONG_SPEC)["id"]
+        job_id = self.client.submit(LONG_SPEC)
         job = self.wait_for(job_id, {"running"}, 60)
         slurm_id = job["slurm_job_id"]
         self.client.cancel(job_id)
@@ -332,28 +342,31 @@ class SlurmExecutorTest(unittest.TestCase):
         self.fail(f"Slurm job {slurm_id} did not end: {self.cluster.squeue()}")
 
     def test_3_time_limit_requeues_from_the_checkpoint(self):
-        job_id = self.client.submit(LONG_SPEC)["id"]
+        job_id = self.client.submit(LONG_SPEC)
         first = self.wait_for(job_id, {"running"}, 60)["slurm_job_id"]
         done = self.wait_for(job_id, {"succeeded", "failed", "cancelled"}, 300)
         self.assertEqual(done["status"], "succeeded", done)
-        self.assertNotEqual(done["slurm_job_id"], first, "the job ran past its 1-minute limit in one Slurm job")
+        self.assertNotEqual(done["slurm_job_id"], first, "the job ran in one Slurm job: it was never warned")
         self.assertEqual(self.client.curve_csv(job_id), self.local_curve(LONG_SPEC, "local_long"),
                          "the requeued run's curve differs from an uninterrupted local run")
 
     def test_4_daemon_restart_neither_loses_nor_repeats_jobs(self):
-        ids = [self.client.submit(short_spec(rate))["id"] for rate in (5e-6, 6e-6)]
+        # Time limits of 6 minutes here: no time-limit warning may requeue these jobs (they take 10 s).
+        self.stop_daemon()
+        self.start_daemon(time_limit=6)
+        ids = [self.client.submit(short_spec(rate)) for rate in (6e-7, 7e-7)]
         running = self.wait_for(ids[0], {"running"}, 60)
         self.stop_daemon()
         time.sleep(3)  # the workers keep running, and retry the daemon
-        self.start_daemon()
+        self.start_daemon(time_limit=6)
         done = [self.wait_for(j, {"succeeded", "failed", "cancelled"}, 180) for j in ids]
         for job in done:
             self.assertEqual(job["status"], "succeeded", job)
         self.assertEqual(done[0]["slurm_job_id"], running["slurm_job_id"], "the restart submitted it again")
-        names = [c.get("JobName", "") for c in self.cluster.completed()]
+        names = [c.get("Name", "") for c in self.cluster.completed()]
         for j in ids:
             self.assertEqual(sum(1 for n in names if n == f"granulab-{j}" or n.startswith(f"granulab-{j}-")), 1, names)
-        for job, rate in zip(done, (5e-6, 6e-6)):
+        for job, rate in zip(done, (6e-7, 7e-7)):
             self.assertEqual(self.client.curve_csv(job["id"]), self.local_curve(short_spec(rate), f"restart_{rate}"))
 
 
