@@ -45,30 +45,31 @@ DaemonLink::DaemonLink(const std::string& server, std::int64_t job, std::string 
 
 DaemonLink::~DaemonLink() = default;
 
-std::string DaemonLink::get(const std::string& suffix) { return request("GET", suffix, "", ""); }
+std::string DaemonLink::get(const std::string& suffix) { return request("GET", suffix, "", "", true); }
 
-std::string DaemonLink::post(const std::string& suffix, const std::string& body, const std::string& content_type) {
-  return request("POST", suffix, body, content_type);
+std::string DaemonLink::post(const std::string& suffix, const std::string& body, const std::string& content_type,
+                             bool wait) {
+  return request("POST", suffix, body, content_type, wait);
 }
 
-json DaemonLink::post_json(const std::string& suffix, const json& body) {
-  return json::parse(post(suffix, body.dump(), "application/json"));
+json DaemonLink::post_json(const std::string& suffix, const json& body, bool wait) {
+  return json::parse(post(suffix, body.dump(), "application/json", wait));
 }
 
 std::string DaemonLink::request(const std::string& method, const std::string& suffix, const std::string& body,
-                                const std::string& content_type) {
+                                const std::string& content_type, bool wait) {
   const std::string path = "/v1/worker/jobs/" + std::to_string(job_) + suffix;
   httplib::Headers headers = {{"X-Worker-Token", token_}};
   if (!slurm_job_id_.empty()) headers.emplace("X-Slurm-Job-Id", slurm_job_id_);
-  std::optional<Clock::time_point> failing_since;
-  double wait = 0.5;
+  double pause = 0.5;
   for (;;) {
     const httplib::Result r = method == "GET" ? http_->Get(path, headers) : http_->Post(path, headers, body, content_type);
     std::string problem;
     if (!r) {
       problem = "cannot reach " + server_ + " (" + httplib::to_string(r.error()) + ")";
     } else if (r->status < 400) {
-      if (failing_since) spdlog::info("the daemon answers again after {:.0f} s", seconds_since(*failing_since));
+      if (failing_since_) spdlog::info("the daemon answers again after {:.0f} s", seconds_since(*failing_since_));
+      failing_since_.reset();
       return r->body;
     } else if (r->status >= 500 || r->status == 429 || r->status == 408) {
       problem = method + " " + path + " answered " + std::to_string(r->status);
@@ -81,15 +82,16 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
       }
       throw Refused(r->status, code, method + " " + path + ": " + std::to_string(r->status) + " " + message);
     }
-    // The daemon away (restarting, overloaded): keep trying for the patience, the run waiting meanwhile.
-    if (!failing_since) {
-      failing_since = Clock::now();
-      spdlog::warn("{}; retrying for up to {:.0f} s", problem, patience_);
+    // The daemon away (restarting, overloaded): keep trying for the patience.
+    if (!failing_since_) {
+      failing_since_ = Clock::now();
+      spdlog::warn("{}; trying again for up to {:.0f} s", problem, patience_);
     }
-    if (seconds_since(*failing_since) > patience_)
+    if (seconds_since(*failing_since_) > patience_)
       throw std::runtime_error(problem + ", for " + std::to_string(int(patience_)) + " s");
-    std::this_thread::sleep_for(std::chrono::duration<double>(wait));
-    wait = std::min(2 * wait, 5.0);
+    if (!wait) throw Unavailable(problem);
+    std::this_thread::sleep_for(std::chrono::duration<double>(pause));
+    pause = std::min(2 * pause, 5.0);
   }
 }
 
@@ -123,13 +125,21 @@ void RemoteSink::snapshot(std::size_t index, const GrainSnapshot& s) {
   snapshots_.push_back({{"index", index}, {"strain", s.strain}, {"data", api::snapshot_json(s).dump()}});
 }
 
-bool RemoteSink::flush() {
+bool RemoteSink::flush(bool wait) {
   const double elapsed = seconds_since(start_);
-  const json answer = link_.post_json("/results", {{"first_index", rows_sent_},
-                                                    {"lines", lines_},
-                                                    {"snapshots", snapshots_},
-                                                    {"progress", fraction_},
-                                                    {"eta_seconds", fraction_ > 0 ? elapsed * (1 - fraction_) / fraction_ : -1.0}});
+  json answer;
+  try {
+    answer = link_.post_json("/results",
+                             {{"first_index", rows_sent_},
+                              {"lines", lines_},
+                              {"snapshots", snapshots_},
+                              {"progress", fraction_},
+                              {"eta_seconds", fraction_ > 0 ? elapsed * (1 - fraction_) / fraction_ : -1.0}},
+                             wait);
+  } catch (const Unavailable&) {
+    last_flush_ = Clock::now();  // kept for the next flush; the run goes on
+    return cancel_;
+  }
   rows_sent_ += lines_.size();
   lines_.clear();
   snapshots_ = json::array();
@@ -152,7 +162,7 @@ bool RemoteSink::progress(double fraction) {
   }
   if (cancel_) return false;
   if (seconds_since(last_flush_) < flush_seconds_) return true;
-  return !flush();
+  return !flush(false);  // a daemon away does not hold the run up: the rows wait in memory
 }
 
 bool RemoteSink::checkpoint_due() {
@@ -161,11 +171,18 @@ bool RemoteSink::checkpoint_due() {
 }
 
 void RemoteSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
-  flush();  // the rows and snapshots it follows are stored first
-  link_.post("/checkpoint?rows=" + std::to_string(rows) + "&snapshots=" + std::to_string(snapshots) +
-                 "&engine_version=" + httplib::detail::encode_query_param(engine_version_),
-             state, "application/octet-stream");
+  // Before a stop (the time limit near) it waits for the daemon; otherwise a daemon away skips this one.
+  const bool wait = stop_signal_ != 0;
   last_checkpoint_ = Clock::now();
+  try {
+    flush(wait);  // the rows and snapshots it follows are stored first
+    if (!lines_.empty() || !snapshots_.empty()) return;  // they were not: no checkpoint this time
+    link_.post("/checkpoint?rows=" + std::to_string(rows) + "&snapshots=" + std::to_string(snapshots) +
+                   "&engine_version=" + httplib::detail::encode_query_param(engine_version_),
+               state, "application/octet-stream", wait);
+  } catch (const Unavailable&) {
+    return;
+  }
   if (stop_signal_) interrupted();
 }
 

@@ -2,8 +2,9 @@
 // owns the job (server/worker_routes.cpp), as the daemon's own StoreSink would store it: curve rows and
 // snapshots in batches at most every `flush_seconds` with the progress (whose answer carries a cancel
 // request), checkpoints every `checkpoint_seconds`, the summary at the end. A daemon that does not answer
-// (restarting, a network blip) is retried for `patience` seconds while the run waits, so nothing is
-// lost or sent twice: every request is idempotent on the daemon's side.
+// (restarting, a network blip) does not hold the run up: rows and snapshots wait in memory for the next
+// batch and checkpoints are skipped meanwhile; only the end (and a checkpoint before a stop) waits for it,
+// up to `patience` seconds. Nothing is lost or stored twice: every request is idempotent on the daemon's side.
 // A stop signal (SIGUSR1 from Slurm before the time limit, SIGTERM) makes the run store a checkpoint at
 // its next safe point and end with Interrupted.
 #pragma once
@@ -31,6 +32,11 @@ struct Interrupted : std::runtime_error {
   explicit Interrupted(const std::string& why) : std::runtime_error(why) {}
 };
 
+/// The daemon did not answer a request that was not to wait for it (see DaemonLink::request).
+struct Unavailable : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// The daemon refused a request (4xx other than a retryable one): its status and message.
 struct Refused : std::runtime_error {
   Refused(int status, const std::string& code, const std::string& message)
@@ -47,20 +53,22 @@ class DaemonLink {
              double patience_seconds);
   ~DaemonLink();
   /// GET/POST on /v1/worker/jobs/{job}{suffix}; the answer's body. Throws Refused on a 4xx, and
-  /// std::runtime_error when the daemon stayed unreachable (or answered 5xx) for the whole patience.
+  /// std::runtime_error when the daemon stayed unreachable (or answered 5xx) for the whole patience;
+  /// with `wait` false, Unavailable at once instead of retrying.
   std::string get(const std::string& suffix);
-  std::string post(const std::string& suffix, const std::string& body, const std::string& content_type);
-  nlohmann::json post_json(const std::string& suffix, const nlohmann::json& body);
+  std::string post(const std::string& suffix, const std::string& body, const std::string& content_type, bool wait = true);
+  nlohmann::json post_json(const std::string& suffix, const nlohmann::json& body, bool wait = true);
   std::int64_t job() const { return job_; }
 
  private:
   std::string request(const std::string& method, const std::string& suffix, const std::string& body,
-                      const std::string& content_type);
+                      const std::string& content_type, bool wait);
   std::string server_;
   std::int64_t job_;
   std::string token_, slurm_job_id_;
   double patience_;
   std::unique_ptr<httplib::Client> http_;
+  std::optional<std::chrono::steady_clock::time_point> failing_since_;  ///< the daemon not answering since
 };
 
 class RemoteSink : public api::JobSink {
@@ -75,8 +83,9 @@ class RemoteSink : public api::JobSink {
   bool checkpoint_due() override;
   void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
   void summary(const nlohmann::json& summary) override;
-  /// Sends what is buffered; true once the daemon has asked to stop (a cancel).
-  bool flush();
+  /// Sends what is buffered; true once the daemon has asked to stop (a cancel). With `wait` false and the
+  /// daemon away, it stays buffered for the next flush.
+  bool flush(bool wait = true);
 
  private:
   [[noreturn]] void interrupted() const;

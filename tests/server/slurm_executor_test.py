@@ -8,7 +8,10 @@ granulabd with --executor slurm, and checks:
 - a cancel through the API reaches Slurm (the Slurm job ends CANCELLED);
 - a job longer than its Slurm time limit is warned (USR1), checkpoints, is requeued as a new Slurm job,
   resumes and finishes with the curve of an uninterrupted local run;
-- granulabd stopped and started again while jobs run on the cluster neither loses nor repeats them.
+- granulabd stopped and started again while jobs run on the cluster (one of them ending meanwhile) neither
+  loses nor repeats them;
+- a Slurm job that fails (a broken worker, exit 3) fails its job with Slurm's state and exit code; the daemon
+  here authenticates with a token in SLURM_JWT instead of the key.
 Everything it started is stopped by PID. Standard library only.
 """
 import csv
@@ -255,15 +258,20 @@ class SlurmExecutorTest(unittest.TestCase):
             shutil.rmtree(cls.dir, ignore_errors=True)
 
     @classmethod
-    def start_daemon(cls, time_limit=1):
-        """granulabd on the cluster; `time_limit`: --slurm-time-limit (min), the Slurm jobs' limit here."""
+    def start_daemon(cls, time_limit=1, extra=(), jwt=None):
+        """granulabd on the cluster; `time_limit`: --slurm-time-limit (min), the Slurm jobs' limit here.
+        `jwt`: a token in SLURM_JWT instead of the key file."""
         log = open(os.path.join(cls.dir, "granulabd.log"), "a")
+        env = dict(os.environ, SLURM_CONF=cls.cluster.conf)
+        auth = ["--slurm-jwt-key", cls.cluster.jwt_key]
+        if jwt:
+            env["SLURM_JWT"], auth = jwt, []
         cls.daemon = subprocess.Popen(
             [DAEMON, "--port", str(cls.port), "--db", cls.db, "--threads", "1", "--checkpoint-seconds", "3",
              "--executor", "slurm", "--slurm-url", f"http://127.0.0.1:{cls.cluster.rest_port}", "--slurm-user", "root",
-             "--slurm-jwt-key", cls.cluster.jwt_key, "--slurm-time-limit", str(time_limit), "--slurm-signal-seconds", "30",
-             "--slurm-output", os.path.join(cls.dir, "slurm-%j.out")],
-            stdout=log, stderr=subprocess.STDOUT, env=dict(os.environ, SLURM_CONF=cls.cluster.conf))
+             *auth, "--slurm-time-limit", str(time_limit), "--slurm-signal-seconds", "30",
+             "--slurm-output", os.path.join(cls.dir, "slurm-%j.out"), *extra],
+            stdout=log, stderr=subprocess.STDOUT, env=env)
         log.close()  # the daemon has its own descriptor
         deadline = time.time() + 30
         while time.time() < deadline:
@@ -351,23 +359,45 @@ class SlurmExecutorTest(unittest.TestCase):
                          "the requeued run's curve differs from an uninterrupted local run")
 
     def test_4_daemon_restart_neither_loses_nor_repeats_jobs(self):
-        # Time limits of 6 minutes here: no time-limit warning may requeue these jobs (they take 10 s).
+        # Time limits of 6 minutes here: no time-limit warning may requeue these jobs. The first takes 2 s and
+        # ends on the cluster while the daemon is down; the second (10 s) runs on across the restart.
         self.stop_daemon()
         self.start_daemon(time_limit=6)
-        ids = [self.client.submit(short_spec(rate)) for rate in (6e-7, 7e-7)]
-        running = self.wait_for(ids[0], {"running"}, 60)
+        rates = (3e-6, 6e-7)
+        ids = [self.client.submit(short_spec(rate)) for rate in rates]
+        running = [self.wait_for(j, {"running"}, 60) for j in ids]
         self.stop_daemon()
-        time.sleep(3)  # the workers keep running, and retry the daemon
+        time.sleep(6)  # the workers go on computing; what they make waits for the daemon
         self.start_daemon(time_limit=6)
         done = [self.wait_for(j, {"succeeded", "failed", "cancelled"}, 180) for j in ids]
-        for job in done:
-            self.assertEqual(job["status"], "succeeded", job)
-        self.assertEqual(done[0]["slurm_job_id"], running["slurm_job_id"], "the restart submitted it again")
+        for job, before in zip(done, running):
+            self.assertEqual(job["status"], "succeeded", f"{job}\n{self.daemon_log()}")
+            self.assertEqual(job["slurm_job_id"], before["slurm_job_id"], "the restart submitted it again")
         names = [c.get("Name", "") for c in self.cluster.completed()]
         for j in ids:
             self.assertEqual(sum(1 for n in names if n == f"granulab-{j}" or n.startswith(f"granulab-{j}-")), 1, names)
-        for job, rate in zip(done, (6e-7, 7e-7)):
+        for job, rate in zip(done, rates):
             self.assertEqual(self.client.curve_csv(job["id"]), self.local_curve(short_spec(rate), f"restart_{rate}"))
+
+    def test_5_a_failing_worker_fails_the_job_with_slurms_reason(self):
+        # With a token in SLURM_JWT instead of the key, and a worker that exits 3 at once.
+        fake = os.path.join(self.dir, "broken_worker")
+        with open(fake, "w") as f:
+            f.write("#!/bin/sh\necho broken worker >&2\nexit 3\n")
+        os.chmod(fake, 0o755)
+        token = subprocess.run(["scontrol", "token", "lifespan=900"], capture_output=True, text=True, check=True,
+                               env=dict(os.environ, SLURM_CONF=self.cluster.conf)).stdout.strip().split("=", 1)[1]
+        self.stop_daemon()
+        self.start_daemon(extra=("--slurm-worker", fake), jwt=token)
+        try:
+            job = self.wait_for(self.client.submit(short_spec(1e-5)), {"succeeded", "failed", "cancelled"}, 60)
+        finally:
+            self.stop_daemon()
+            self.start_daemon()
+        self.assertEqual(job["status"], "failed", job)
+        self.assertIn("FAILED", job["error"])
+        self.assertIn("exit code 3", job["error"])
+        self.assertTrue(job["slurm_state"].startswith("FAILED"), job)
 
 
 if __name__ == "__main__":
