@@ -52,6 +52,9 @@ std::string job_line(const json& job, int bar_width) {
                 100 * progress);
   std::string line = head;
   if (status == "running" && job.contains("eta_seconds")) line += "  ETA " + duration(number(job, "eta_seconds"));
+  // On a cluster, while it waits there: Slurm's word on why (e.g. "Slurm 123: PENDING (Resources)").
+  if (status == "queued" && job.contains("slurm_state") && job["slurm_state"].is_string())
+    line += "  Slurm " + job.value("slurm_job_id", std::string("?")) + ": " + job["slurm_state"].get<std::string>();
   // The latest strain and stress of a running job, the first yield of a finished crystal.
   if (job.contains("latest") && job["latest"].is_object()) {
     const json& l = job["latest"];
