@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <unordered_map>
 #include <optional>
 #include <string>
 
@@ -105,6 +107,8 @@ class HttpServer {
   bool worker_may_send(const std::string& target, const std::string& token);
   JobStore& store_;
   Executor& pool_;
+  std::mutex worker_secrets_mutex_;
+  std::unordered_map<std::int64_t, std::string> worker_secrets_;  ///< job id -> its worker's secret, as seen
   HttpOptions options_;
   std::unique_ptr<LoopServer> http_;
   std::unique_ptr<ConnectionLoop> connections_;

@@ -44,12 +44,25 @@ bool HttpServer::worker_may_send(const std::string& target, const std::string& t
   const std::size_t end = target.find_first_not_of("0123456789", prefix.size());
   const auto id = path_id(target.substr(prefix.size(), end == std::string::npos ? std::string::npos : end - prefix.size()));
   if (!id) return false;
-  try {
-    const std::string expected = store_.worker_token(*id);
-    return !expected.empty() && same_secret(expected, token);
-  } catch (const std::exception&) {  // the store failing: the ordinary limit applies
-    return false;
+  // The connection loop's thread must not wait for the store (a large checkpoint may be being written):
+  // secrets never change once set, so the ones seen are kept here.
+  std::string expected;
+  {
+    std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
+    if (const auto it = worker_secrets_.find(*id); it != worker_secrets_.end()) expected = it->second;
   }
+  if (expected.empty()) {
+    try {
+      expected = store_.worker_token(*id);
+    } catch (const std::exception&) {  // the store failing: the ordinary limit applies
+      return false;
+    }
+    if (expected.empty()) return false;
+    std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
+    if (worker_secrets_.size() > 100000) worker_secrets_.clear();  // bounded: old jobs' secrets go
+    worker_secrets_[*id] = expected;
+  }
+  return same_secret(expected, token);
 }
 
 std::optional<JobRecord> HttpServer::worker_job(const httplib::Request& req, httplib::Response& res) {
