@@ -175,6 +175,10 @@ void ConnectionLoop::after_feed(int fd, Connection& c, std::int64_t now) {
   }
   switch (c.reader.state()) {
     case RequestReader::State::need_more:
+      if (c.reader.trusted() && !c.trusted_deadline) {
+        c.deadline_ms = now + options_.trusted_request_timeout_ms;
+        c.trusted_deadline = true;
+      }
       return;
     case RequestReader::State::rejected:
       return reject(fd, c, c.reader.reject_status(), c.reader.reject_code(), c.reader.reject_message(), now);

@@ -31,6 +31,9 @@ struct ConnectionOptions {
   int keep_alive_timeout_ms = 5000;     ///< idle time allowed between requests on one connection
   int keep_alive_max_requests = 100;    ///< requests per connection before it is closed
   int write_timeout_ms = 10000;         ///< an answer that makes no progress for this long is abandoned
+  /// A trusted request (RequestLimits::trusted: a job's worker sending a checkpoint) has this long instead
+  /// of request_timeout_ms, from the moment its head is read.
+  int trusted_request_timeout_ms = 600000;
 };
 
 /// Sends all of `data` on `fd` (blocking or not), waiting at most `timeout_ms` each time the socket is
@@ -63,6 +66,7 @@ class ConnectionLoop {
     std::string out;            ///< the answer being written
     std::size_t out_at = 0;     ///< bytes of it already sent
     bool close_after = false;   ///< close once `out` is sent
+    bool trusted_deadline = false;  ///< the deadline is already the trusted request's
     bool writing() const { return out_at < out.size(); }
   };
   struct Handed {  ///< a connection entering the poll thread: new, or back from a handler with its answer

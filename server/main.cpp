@@ -2,6 +2,8 @@
 // (workers x engine threads never exceed the cores), serves the HTTP API of docs/api.md. SIGTERM or
 // SIGINT: stop accepting requests, interrupt running jobs and put them back in the queue, exit cleanly.
 // After a kill -9, jobs found `running` at the next start are re-queued the same way.
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -172,8 +174,20 @@ int main(int argc, char** argv) {
     const int bound = http.bind(host, port);
     if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + " (is another server using the port?)");
     if (cluster) {
-      // The nodes reach this daemon at --public-url, by default the address it listens on.
-      if (slurm_options.public_url.empty()) cluster->set_public_url("http://" + host + ":" + std::to_string(bound));
+      // The nodes reach this daemon at --public-url; by default the address it listens on (its host name when
+      // it listens on every address).
+      if (slurm_options.public_url.empty()) {
+        std::string name = host;
+        if (host == "0.0.0.0" || host == "::") {
+          char text[256] = {};
+          if (::gethostname(text, sizeof text - 1) == 0) name = text;
+        }
+        cluster->set_public_url("http://" + name + ":" + std::to_string(bound));
+        if (name.rfind("127.", 0) == 0 || name == "localhost" || name == "::1")
+          spdlog::warn("the Slurm jobs reach this daemon at {}, a loopback address: only nodes on this machine can; "
+                       "give --public-url (or --host) for a cluster",
+                       cluster->public_url());
+      }
       spdlog::info("jobs run on the Slurm cluster at {}: {}; its nodes reach this daemon at {}", slurm_options.rest.url,
                    cluster->cluster(), cluster->public_url());
     }
@@ -193,7 +207,13 @@ int main(int argc, char** argv) {
     http.serve();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.
-    if (const std::size_t n = store.requeue_running(on_slurm)) spdlog::info("re-queued {} interrupted job(s)", n);
+    try {
+      if (const std::size_t n = store.requeue_running(on_slurm)) spdlog::info("re-queued {} interrupted job(s)", n);
+    } catch (const std::exception& e) {
+      // A full disk, say: the jobs stay `running` in the file and the next start re-queues them. Throwing on
+      // would end the process with the signal thread still joinable (std::terminate, an abort).
+      spdlog::error("could not re-queue the interrupted jobs now ({}); the next start will", e.what());
+    }
     if (signal_waiter.joinable()) {
       pthread_kill(signal_waiter.native_handle(), SIGTERM);  // wakes sigwait if we stopped for another reason
       signal_waiter.join();

@@ -36,6 +36,8 @@ class RequestReader {
   /// True exactly once, when the head asked for `100-continue` and the announced body is acceptable:
   /// the caller sends "HTTP/1.1 100 Continue" then.
   bool take_continue();
+  /// True once the head was read and the request was trusted with the larger body limit.
+  bool trusted() const { return body_limit_ > limits_.max_body_bytes; }
 
   /// When complete: the request as cpp-httplib should read it, and the bytes after it (a pipelined
   /// next request), which start the next reader.

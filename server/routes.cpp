@@ -310,6 +310,7 @@ HttpServer::HttpServer(JobStore& store, Executor& pool, const HttpOptions& optio
   connection.limits.trusted = [this](const std::string& target, const std::string& token) {
     return worker_may_send(target, token);
   };
+  for (const auto& [job, secret] : store_.worker_secrets()) worker_secrets_[job] = secret;  // jobs on a cluster
   connection.handler_threads = options_.handler_threads;
   connection.max_connections = options_.max_connections;
   connection.request_timeout_ms = options_.request_timeout_ms;

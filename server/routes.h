@@ -105,6 +105,7 @@ class HttpServer {
   std::optional<JobRecord> worker_job(const httplib::Request& req, httplib::Response& res);
   /// The connection loop's question before reading a large body: is this a job's worker, by its secret?
   bool worker_may_send(const std::string& target, const std::string& token);
+  void remember_worker_secret(std::int64_t job, const std::string& secret);
   JobStore& store_;
   Executor& pool_;
   std::mutex worker_secrets_mutex_;

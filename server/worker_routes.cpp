@@ -44,39 +44,30 @@ bool HttpServer::worker_may_send(const std::string& target, const std::string& t
   const std::size_t end = target.find_first_not_of("0123456789", prefix.size());
   const auto id = path_id(target.substr(prefix.size(), end == std::string::npos ? std::string::npos : end - prefix.size()));
   if (!id) return false;
-  // The connection loop's thread must not wait for the store (a large checkpoint may be being written):
-  // secrets never change once set, so the ones seen are kept here.
-  std::string expected;
-  {
-    std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
-    if (const auto it = worker_secrets_.find(*id); it != worker_secrets_.end()) expected = it->second;
-  }
-  if (expected.empty()) {
-    try {
-      expected = store_.worker_token(*id);
-    } catch (const std::exception&) {  // the store failing: the ordinary limit applies
-      return false;
-    }
-    if (expected.empty()) return false;
-    std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
-    if (worker_secrets_.size() > 100000) worker_secrets_.clear();  // bounded: old jobs' secrets go
-    worker_secrets_[*id] = expected;
-  }
-  return same_secret(expected, token);
+  // The connection loop's thread never waits for the store (a large checkpoint may be being written): it
+  // knows the secrets of the active jobs at start-up and of every worker that has been answered since (a
+  // worker's first request, its start, is small).
+  std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
+  const auto it = worker_secrets_.find(*id);
+  return it != worker_secrets_.end() && same_secret(it->second, token);
+}
+
+void HttpServer::remember_worker_secret(std::int64_t job, const std::string& secret) {
+  std::lock_guard<std::mutex> lock(worker_secrets_mutex_);
+  if (worker_secrets_.size() > 100000) worker_secrets_.clear();  // bounded: finished jobs' secrets go
+  worker_secrets_[job] = secret;
 }
 
 std::optional<JobRecord> HttpServer::worker_job(const httplib::Request& req, httplib::Response& res) {
   const auto id = path_id(req.matches[1]);
   const std::optional<JobRecord> job = id ? store_.get(*id) : std::nullopt;
-  if (!job) {
-    error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
-    return std::nullopt;
-  }
-  const std::string expected = store_.worker_token(job->id);
+  const std::string expected = job ? store_.worker_token(job->id) : "";
+  // An unknown job answers as a wrong secret does: these routes tell nobody which jobs exist.
   if (expected.empty() || !same_secret(expected, req.get_header_value("X-Worker-Token"))) {
-    error(res, 403, "forbidden", "this is not the worker of job " + std::to_string(job->id) + " (X-Worker-Token)");
+    error(res, 403, "forbidden", "this is not the worker of job " + std::string(req.matches[1]) + " (X-Worker-Token)");
     return std::nullopt;
   }
+  remember_worker_secret(job->id, expected);
   // A worker of an earlier Slurm job of this job (it was requeued since) may not touch the new run.
   const std::string slurm_job = req.get_header_value("X-Slurm-Job-Id");
   if (!slurm_job.empty() && slurm_job != job->slurm_job_id) {
@@ -96,7 +87,7 @@ void HttpServer::worker_routes() {
     if (!job) return;
     if (finished(job->status) || job->cancel_requested)
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + (job->cancel_requested ? " (cancel requested)" : ""));
-    if (!store_.mark_running(job->id))
+    if (!store_.mark_running(job->id, req.get_header_value("X-Slurm-Job-Id")))
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " can no longer start");
     const std::string version = req.has_param("engine_version") ? req.get_param_value("engine_version") : "";
     const std::optional<api::Resume> resume = resume_point(store_, job->id, version);
@@ -212,9 +203,18 @@ void HttpServer::worker_routes() {
         store_.mark_cancelled(id);
         return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
       }
-      if (job->status == "running" && store_.requeue_for_cluster(id, text(body, "reason", "its worker was interrupted"))) {
-        pool_.notify();
-        return reply(res, 200, {{"id", id}, {"status", "queued"}});
+      if (job->status == "running") {
+        switch (store_.requeue_for_cluster(id, text(body, "reason", "its worker was interrupted"))) {
+          case JobStore::Requeue::requeued:
+            pool_.notify();
+            return reply(res, 200, {{"id", id}, {"status", "queued"}});
+          case JobStore::Requeue::cancelled:
+            return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
+          case JobStore::Requeue::failed:
+            return reply(res, 200, {{"id", id}, {"status", "failed"}});
+          case JobStore::Requeue::not_active:
+            break;
+        }
       }
     } else {
       return error(res, 400, "invalid_value", "'outcome' must be succeeded, failed, cancelled or interrupted", "outcome");

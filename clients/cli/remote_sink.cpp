@@ -62,7 +62,11 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
   httplib::Headers headers = {{"X-Worker-Token", token_}};
   if (!slurm_job_id_.empty()) headers.emplace("X-Slurm-Job-Id", slurm_job_id_);
   double pause = 0.5;
+  // While the daemon is away, a request that is not to wait does not even try more often than every
+  // `retry_after_` (1 s, doubling to 30 s): an unreachable host would otherwise cost a connect timeout each.
+  if (!wait && failing_since_ && seconds_since(last_attempt_) < retry_after_) throw Unavailable("the daemon is away");
   for (;;) {
+    last_attempt_ = Clock::now();
     const httplib::Result r = method == "GET" ? http_->Get(path, headers) : http_->Post(path, headers, body, content_type);
     std::string problem;
     if (!r) {
@@ -70,6 +74,7 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
     } else if (r->status < 400) {
       if (failing_since_) spdlog::info("the daemon answers again after {:.0f} s", seconds_since(*failing_since_));
       failing_since_.reset();
+      retry_after_ = 1;
       return r->body;
     } else if (r->status >= 500 || r->status == 429 || r->status == 408) {
       problem = method + " " + path + " answered " + std::to_string(r->status);
@@ -87,9 +92,12 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
       failing_since_ = Clock::now();
       spdlog::warn("{}; trying again for up to {:.0f} s", problem, patience_);
     }
+    if (!wait) {  // the run goes on; patience is for the requests that wait
+      retry_after_ = std::min(2 * retry_after_, 30.0);
+      throw Unavailable(problem);
+    }
     if (seconds_since(*failing_since_) > patience_)
       throw std::runtime_error(problem + ", for " + std::to_string(int(patience_)) + " s");
-    if (!wait) throw Unavailable(problem);
     std::this_thread::sleep_for(std::chrono::duration<double>(pause));
     pause = std::min(2 * pause, 5.0);
   }

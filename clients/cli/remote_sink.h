@@ -69,6 +69,8 @@ class DaemonLink {
   double patience_;
   std::unique_ptr<httplib::Client> http_;
   std::optional<std::chrono::steady_clock::time_point> failing_since_;  ///< the daemon not answering since
+  std::chrono::steady_clock::time_point last_attempt_;
+  double retry_after_ = 1;  ///< s between attempts of requests that do not wait, while the daemon is away
 };
 
 class RemoteSink : public api::JobSink {

@@ -46,6 +46,13 @@ std::string slurm_job_id() {
   return job ? job : "";
 }
 
+// The daemon's refusals that mean "this run is no longer wanted" (cancelled, finished, requeued, not this
+// worker's): the worker stops without reporting. Any other refusal (a limit, a malformed request) is a
+// failure it reports, with the daemon's message.
+bool ends_quietly(const Refused& e) {
+  return e.code == "wrong_state" || e.code == "stale_worker" || e.code == "forbidden";
+}
+
 // Tells the daemon how the run ended; an answer it refuses (the job was cancelled meanwhile) is logged.
 void report_end(DaemonLink& link, const json& body) {
   try {
@@ -90,12 +97,28 @@ int run_worker(int argc, char** argv) {
     spdlog::warn("job {} does not start: {}", job, e.what());  // cancelled or finished meanwhile
     return 0;
   }
-  const api::Spec spec = api::parse_spec_text(start["spec"].dump());
+  api::Spec spec;
+  std::optional<api::Resume> resume;
+  try {
+    spec = api::parse_spec_text(start["spec"].dump());
+    if (start.value("resume", false)) {
+      try {
+        resume = api::unpack_resume(link.get("/checkpoint"));
+      } catch (const CheckpointError& e) {
+        spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job, e.what());
+      }
+    }
+  } catch (const Refused& e) {
+    if (ends_quietly(e)) return 0;
+    report_end(link, {{"outcome", "failed"}, {"error", e.what()}});
+    return 1;
+  } catch (const std::exception& e) {  // a spec this build cannot read (another version of granulab?)
+    report_end(link, {{"outcome", "failed"}, {"error", std::string("the worker cannot run this job: ") + e.what()}});
+    return 1;
+  }
   const char* cpus = std::getenv("SLURM_CPUS_PER_TASK");
   const int threads = cpus && std::atoi(cpus) > 0 ? std::atoi(cpus) : spec.threads;
   if (threads > 0) omp_set_num_threads(threads);
-  std::optional<api::Resume> resume;
-  if (start.value("resume", false)) resume = api::unpack_resume(link.get("/checkpoint"));
   spdlog::info("job {} ({}) on {} thread(s){}", job, spec.name(), omp_get_max_threads(),
                resume ? ", resuming after " + std::to_string(resume->rows) + " curve rows" : "");
 
@@ -127,8 +150,13 @@ int run_worker(int argc, char** argv) {
       spdlog::info("job {} cancelled", job);
       return 0;
     } catch (const Refused& e) {
-      spdlog::warn("job {} stops: {}", job, e.what());  // e.g. cancelled and already marked so
-      return 0;
+      if (ends_quietly(e)) {
+        spdlog::warn("job {} stops: {}", job, e.what());  // e.g. cancelled and already marked so
+        return 0;
+      }
+      report_end(link, {{"outcome", "failed"}, {"error", e.what()}});  // e.g. a limit of the daemon's, named
+      spdlog::error("job {} failed: {}", job, e.what());
+      return 1;
     } catch (const std::exception& e) {
       try {
         sink.flush();

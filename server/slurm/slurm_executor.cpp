@@ -90,17 +90,21 @@ void SlurmExecutor::notify() {
 void SlurmExecutor::cancel_requested(std::int64_t) { notify(); }
 
 void SlurmExecutor::work() {
+  // A step that fails (slurmrestd away, the store failing) is logged, once a minute for the same message,
+  // and tried again at the next poll: nothing leaves this thread.
   auto last_error = std::chrono::steady_clock::time_point();
   std::string last_message;
   while (!stopping_) {
     for (auto step : {&SlurmExecutor::submit_queued, &SlurmExecutor::follow}) {
       try {
         (this->*step)();
-      } catch (const std::exception& e) {  // slurmrestd away, the store failing: say so (once a minute), retry
+      } catch (const std::exception& e) {
         const auto now = std::chrono::steady_clock::now();
         if (e.what() != last_message || now - last_error > std::chrono::minutes(1))
           spdlog::error("Slurm executor: {}", e.what());
         last_error = now, last_message = e.what();
+      } catch (...) {
+        spdlog::error("Slurm executor: an unknown error; trying again");
       }
     }
     std::unique_lock<std::mutex> lock(mutex_);
@@ -174,19 +178,25 @@ void SlurmExecutor::submit_queued() {
     std::int64_t slurm_id = 0;
     try {
       slurm_id = rest_.submit(desc, kScript);
-    } catch (const Refused& e) {  // Slurm will not take it (a bad partition, too many CPUs): the jobs fail
+    } catch (const Refused& e) {  // Slurm will not take these jobs (a bad partition, too many CPUs): they fail
       for (const JobRecord& job : batch.jobs) store_.fail(job.id, e.what());
       spdlog::error("jobs {}..{}: {}", first.id, batch.jobs.back().id, e.what());
       continue;
+    } catch (const Unreachable& e) {  // slurmrestd or slurmctld away, a policy limit: they wait, and say why
+      for (const JobRecord& job : batch.jobs) store_.set_slurm_state(job.id, "", std::string("not submitted yet: ") + e.what(), false);
+      throw;
     }
+    // Every id first, then the cancels: a failing cancel must not leave the batch's later jobs unrecorded.
+    std::vector<std::string> cancelled;
     for (std::size_t k = 0; k < batch.jobs.size(); ++k) {
       const std::string id = array ? std::to_string(slurm_id) + "_" + std::to_string(k) : std::to_string(slurm_id);
-      if (!store_.set_slurm_job(batch.jobs[k].id, id)) {
-        rest_.cancel(id);  // cancelled while it was being submitted
-        cancels_sent_.insert(id);
-      }
+      if (!store_.set_slurm_job(batch.jobs[k].id, id)) cancelled.push_back(id);  // cancelled while being submitted
       spdlog::info("job {} submitted to Slurm as {} ({} CPU(s), time limit {} min)", batch.jobs[k].id, id, batch.threads,
                    batch.minutes);
+    }
+    for (const std::string& id : cancelled) {
+      cancels_sent_.insert(id);
+      rest_.cancel(id);
     }
   }
 }
@@ -197,27 +207,38 @@ void SlurmExecutor::follow() {
   for (JobRecord& job : store_.on_cluster()) by_master[job.slurm_job_id.substr(0, job.slurm_job_id.find('_'))].push_back(job);
   for (const auto& [master, jobs] : by_master) {
     if (stopping_) return;
-    const std::optional<std::vector<SlurmJob>> records = rest_.job(master);
-    for (const JobRecord& job : jobs) {
-      const SlurmJob* mine = nullptr;
-      if (records) {
+    try {  // one Slurm job's trouble does not stop the others being followed
+      const std::optional<std::vector<SlurmJob>> records = rest_.job(master);
+      for (const JobRecord& job : jobs) {
+        if (!records) {
+          follow_one(job, nullptr);  // Slurm does not know it (any more)
+          continue;
+        }
         const std::size_t underscore = job.slurm_job_id.find('_');
+        const SlurmJob* mine = nullptr;
         for (const SlurmJob& r : *records) {
           const bool match = underscore == std::string::npos
                                  ? r.array_job_id == 0 && std::to_string(r.job_id) == master
                                  : r.covers_task(std::stoll(job.slurm_job_id.substr(underscore + 1)));
           if (match) mine = &r;
         }
+        // A task not listed (Slurm shortens a long list of pending tasks): no news this time.
+        if (mine) follow_one(job, mine);
       }
-      follow_one(job, mine);
+    } catch (const std::exception& e) {
+      spdlog::warn("Slurm job {}: {}", master, e.what());
     }
   }
 }
 
-void SlurmExecutor::follow_one(const JobRecord& job, const SlurmJob* record) {
+void SlurmExecutor::follow_one(const JobRecord& listed, const SlurmJob* record) {
+  // The list may be seconds old (a query per Slurm job): act on the job as it is now, on the same Slurm job.
+  const std::optional<JobRecord> current = store_.get(listed.id);
+  if (!current || current->slurm_job_id != listed.slurm_job_id) return;
+  const JobRecord& job = *current;
   const std::string& slurm_id = job.slurm_job_id;
   if (!record) {
-    store_.set_slurm_state(job.id, "UNKNOWN (Slurm no longer knows job " + slurm_id + ")", true);
+    store_.set_slurm_state(job.id, slurm_id, "UNKNOWN (Slurm no longer knows job " + slurm_id + ")", true);
     if (!finished(job.status))
       store_.fail(job.id, "Slurm no longer knows job " + slurm_id + " and its worker never reported how it ended");
     return;
@@ -229,9 +250,9 @@ void SlurmExecutor::follow_one(const JobRecord& job, const SlurmJob* record) {
     cancels_sent_.insert(slurm_id);
     spdlog::info("job {}: cancelled Slurm job {}", job.id, slurm_id);
   }
-  if (state != job.slurm_state || ended) store_.set_slurm_state(job.id, state, ended);
+  if (state != job.slurm_state || ended) store_.set_slurm_state(job.id, slurm_id, state, ended);
   if (!ended) {
-    if (record->state == "RUNNING" && job.status == "queued") store_.mark_running(job.id);
+    if (record->state == "RUNNING" && job.status == "queued") store_.mark_running(job.id, slurm_id);
     return;
   }
   // The Slurm job is over. A worker that reported its end has already settled the job.
@@ -243,16 +264,15 @@ void SlurmExecutor::follow_one(const JobRecord& job, const SlurmJob* record) {
     return;
   }
   const bool lost = record->state == "TIMEOUT" || record->state == "NODE_FAIL" || record->state == "PREEMPTED";
-  if (lost && now->slurm_attempts < options_.max_attempts) {
-    store_.requeue_for_cluster(job.id, "Slurm job " + slurm_id + " ended " + state + "; it resumes from its last checkpoint");
-    notify();
+  if (lost) {  // resumes from its last checkpoint, within the limit of Slurm jobs per job
+    if (store_.requeue_for_cluster(job.id, "Slurm job " + slurm_id + " ended " + state) == JobStore::Requeue::requeued)
+      notify();
     return;
   }
   const int code = record->exit_code >> 8, signal = record->exit_code & 0x7f;
   std::string reason = "Slurm job " + slurm_id + " ended " + state + ", exit code " + std::to_string(code) +
                        (signal ? ", signal " + std::to_string(signal) : "");
   if (record->state == "COMPLETED") reason += ": its worker ended without reporting a result";
-  if (lost) reason += " (" + std::to_string(now->slurm_attempts) + " Slurm jobs, the most allowed)";
   store_.fail(job.id, reason);
 }
 

@@ -41,7 +41,6 @@ struct ExecutorOptions {
   double checkpoint_seconds = 60;
   int max_time_limit_minutes = 7 * 24 * 60;
   int signal_seconds = 120;    ///< USR1 this long before the time limit
-  int max_attempts = 10;       ///< Slurm jobs one job may be given (requeues after time limits included)
   double poll_seconds = 2;
 };
 
@@ -74,7 +73,7 @@ class SlurmExecutor : public Executor {
   /// Reads the state of every job still on the cluster and acts on it.
   void follow();
   /// Acts on one job's Slurm record (null: Slurm does not know its job any more).
-  void follow_one(const server::JobRecord& job, const SlurmJob* record);
+  void follow_one(const server::JobRecord& listed, const SlurmJob* record);
 
   JobStore& store_;
   ExecutorOptions options_;

@@ -1,5 +1,6 @@
 #include "server/slurm/slurm_rest.h"
 
+#include <cctype>
 #include <chrono>
 
 #include "server/slurm/jwt.h"
@@ -44,6 +45,16 @@ std::string errors_of(const json& reply) {
     out += (out.empty() ? "" : "; ") + one;
   }
   return out;
+}
+
+// Slurm's refusal of a job for what it asks (a partition, a node configuration, a time limit, CPUs) rather
+// than for the moment (slurmctld away, a policy limit on queued jobs, a busy controller).
+bool about_the_job(const std::string& errors) {
+  std::string lower = errors;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* word : {"partition", "node configuration", "time limit", "cpu count", "memory specification"})
+    if (lower.find(word) != std::string::npos) return true;
+  return false;
 }
 
 bool unknown_job(const json& reply) {
@@ -112,9 +123,9 @@ json RestClient::call(const std::string& method, const std::string& path, const 
   if (r->status == 404 && r->body.find("Unable to find") != std::string::npos)
     throw Refused("slurmrestd at " + options_.url + " does not serve openapi/" + kDialect + " (" + method + " " + full +
                   ": " + r->body.substr(0, 200) + "); granulab speaks only that dialect (Slurm 22.05)");
-  if (r->status == 401 || r->status == 403)
-    throw Refused("slurmrestd refused the credentials of user '" + options_.user + "' (HTTP " + std::to_string(r->status) +
-                  "): check --slurm-user and the JWT key or SLURM_JWT");
+  if (r->status == 401 || r->status == 403)  // e.g. an expired SLURM_JWT: jobs wait until it is replaced
+    throw Unreachable("slurmrestd refused the credentials of user '" + options_.user + "' (HTTP " + std::to_string(r->status) +
+                      "): check --slurm-user and the JWT key or SLURM_JWT");
   const json reply = json::parse(r->body, nullptr, false);
   if (!reply.is_object())
     throw Unreachable("slurmrestd answered " + method + " " + full + " with HTTP " + std::to_string(r->status) +
@@ -140,8 +151,11 @@ std::string RestClient::check() {
 std::int64_t RestClient::submit(const json& job, const std::string& script) {
   int status = 0;
   const json reply = call("POST", "/job/submit", json{{"job", job}, {"script", script}}.dump(), status);
-  if (const std::string errors = errors_of(reply); !errors.empty() || status >= 400)
-    throw Refused("Slurm refused the job (HTTP " + std::to_string(status) + "): " + (errors.empty() ? reply.dump() : errors));
+  if (const std::string errors = errors_of(reply); !errors.empty() || status >= 400) {
+    const std::string message = "(HTTP " + std::to_string(status) + "): " + (errors.empty() ? reply.dump().substr(0, 200) : errors);
+    if (about_the_job(errors)) throw Refused("Slurm refused the job " + message);
+    throw Unreachable("Slurm did not take the job now " + message);
+  }
   const std::int64_t id = integer(reply, "job_id");
   if (id <= 0) throw Unreachable("slurmrestd's submit answer has no job_id: " + reply.dump().substr(0, 200));
   return id;

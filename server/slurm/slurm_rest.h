@@ -58,6 +58,8 @@ class RestClient {
   /// Checks that slurmrestd answers in this client's dialect; returns "Slurm 22.05.8 (openapi/v0.0.38)".
   std::string check();
   /// Submits a batch job (`job` is the v0.0.38 job description); returns its id (an array's master id).
+  /// Refused when Slurm turns down what the job asks for (partition, nodes, time limit, CPUs); Unreachable
+  /// for everything that may pass (slurmrestd or slurmctld away, credentials, policy limits).
   std::int64_t submit(const nlohmann::json& job, const std::string& script);
   /// The records of a job id ("123": the job, or every task of array 123; "123_4": one task); nullopt when
   /// Slurm does not know it (any more).

@@ -196,13 +196,21 @@ class JobStore {
   /// Jobs whose Slurm job has not been seen to end, whatever their status (a cancelled one may still need
   /// its Slurm job cancelled).
   std::vector<JobRecord> on_cluster();
-  /// Slurm's latest word on the job's Slurm job; `ended`: that Slurm job is over.
-  void set_slurm_state(std::int64_t id, const std::string& state, bool ended);
-  /// Its worker started: queued -> running (started_ms now). True if it is running now.
-  bool mark_running(std::int64_t id);
-  /// Back in the queue for another Slurm job (a time limit, a lost node), its checkpoint and the results up
-  /// to it kept; false unless queued or running.
-  bool requeue_for_cluster(std::int64_t id, const std::string& reason);
+  /// Slurm's latest word on the job's Slurm job `slurm_job_id`; `ended`: that Slurm job is over. Ignored
+  /// when the job has moved to another Slurm job since (a requeue).
+  void set_slurm_state(std::int64_t id, const std::string& slurm_job_id, const std::string& state, bool ended);
+  /// Its worker started: queued -> running (started_ms now), only while it is on `slurm_job_id` (empty: any,
+  /// for a worker outside Slurm). True if it is running now.
+  bool mark_running(std::int64_t id, const std::string& slurm_job_id = "");
+  /// What happens after its Slurm job stopped short (a time limit, a lost node, a worker interrupted).
+  enum class Requeue { requeued, cancelled, failed, not_active };
+  /// Back in the queue for another Slurm job, its checkpoint and the results up to it kept; or cancelled
+  /// when a cancel was requested meanwhile; or failed when it had `max_attempts` Slurm jobs already (the
+  /// message names the limit). not_active unless queued or running.
+  Requeue requeue_for_cluster(std::int64_t id, const std::string& reason, int max_attempts = kMaxSlurmAttempts);
+  static constexpr int kMaxSlurmAttempts = 10;  ///< Slurm jobs one job may be given (requeues included)
+  /// (job id, worker secret) of every queued or running job that has one.
+  std::vector<std::pair<std::int64_t, std::string>> worker_secrets();
 
   /// Appends to the event log; job_id 0 = an event about the daemon, not one job (an unknown job id
   /// throws: the foreign key).

@@ -72,34 +72,63 @@ std::vector<JobRecord> JobStore::on_cluster() {
   return out;
 }
 
-void JobStore::set_slurm_state(std::int64_t id, const std::string& state, bool ended) {
+void JobStore::set_slurm_state(std::int64_t id, const std::string& slurm_job_id, const std::string& state, bool ended) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement st(*db_, "UPDATE jobs SET slurm_state = ?2, slurm_done = ?3 WHERE id = ?1");
-  st.bind(1, id).bind(2, state).bind(3, ended ? 1 : 0).run();
+  Statement st(*db_, "UPDATE jobs SET slurm_state = ?2, slurm_done = ?3 WHERE id = ?1 AND slurm_job_id = ?4");
+  st.bind(1, id).bind(2, state).bind(3, ended ? 1 : 0).bind(4, slurm_job_id).run();
 }
 
-bool JobStore::mark_running(std::int64_t id) {
+bool JobStore::mark_running(std::int64_t id, const std::string& slurm_job_id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  Statement st(*db_, "UPDATE jobs SET status = 'running', started_ms = ?2, eta_seconds = -1 WHERE id = ?1 AND status = 'queued'");
-  st.bind(1, id).bind(2, now_ms()).run();
+  Statement st(*db_,
+               "UPDATE jobs SET status = 'running', started_ms = ?2, eta_seconds = -1 WHERE id = ?1 AND status = 'queued' "
+               "AND (?3 = '' OR slurm_job_id = ?3)");
+  st.bind(1, id).bind(2, now_ms()).bind(3, slurm_job_id).run();
   if (db_->changes() > 0) log_event_locked(id, "started", "on the cluster");
   const std::optional<std::string> status = status_locked(id);
   tx.commit();
   return status && *status == "running";
 }
 
-bool JobStore::requeue_for_cluster(std::int64_t id, const std::string& reason) {
+JobStore::Requeue JobStore::requeue_for_cluster(std::int64_t id, const std::string& reason, int max_attempts) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
+  bool cancel = false;
+  int attempts = 0;
+  {
+    Statement st(*db_, "SELECT cancel_requested, slurm_attempts FROM jobs WHERE id = ?1 AND status IN ('queued', 'running')");
+    st.bind(1, id);
+    if (!st.step()) return Requeue::not_active;
+    cancel = st.column_int64(0) != 0;
+    attempts = st.column_int(1);
+  }
+  // In the same transaction as the check: a cancel that came meanwhile is not lost to a new Slurm job.
+  if (cancel || attempts >= max_attempts) {
+    const std::string error = cancel ? "" : reason + "; it had " + std::to_string(attempts) +
+                                                " Slurm jobs, the most one job may have (JobStore::kMaxSlurmAttempts)";
+    Statement st(*db_, "UPDATE jobs SET status = ?2, error = ?3, eta_seconds = -1, finished_ms = ?4 WHERE id = ?1");
+    st.bind(1, id).bind(2, cancel ? "cancelled" : "failed").bind(3, error).bind(4, now_ms()).run();
+    log_event_locked(id, cancel ? "cancelled" : "failed", cancel ? "cancel requested before it could be requeued" : error);
+    drop_checkpoint_locked(id);  // a finished job is never resumed
+    tx.commit();
+    return cancel ? Requeue::cancelled : Requeue::failed;
+  }
   Statement st(*db_,
                "UPDATE jobs SET status = 'queued', slurm_job_id = '', slurm_state = ?2, eta_seconds = -1, "
-               "started_ms = 0 WHERE id = ?1 AND status IN ('queued', 'running')");
+               "started_ms = 0 WHERE id = ?1");
   st.bind(1, id).bind(2, "requeued: " + reason).run();
-  if (db_->changes() == 0) return false;
   log_event_locked(id, "requeued", reason);
   tx.commit();
-  return true;
+  return Requeue::requeued;
+}
+
+std::vector<std::pair<std::int64_t, std::string>> JobStore::worker_secrets() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement st(*db_, "SELECT id, worker_token FROM jobs WHERE worker_token != '' AND status IN ('queued', 'running')");
+  std::vector<std::pair<std::int64_t, std::string>> out;
+  while (st.step()) out.emplace_back(st.column_int64(0), st.column_text(1));
+  return out;
 }
 
 }  // namespace granulab::server

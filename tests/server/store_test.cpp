@@ -647,3 +647,73 @@ TEST_F(StoreFileTest, DeletingAJobCascadesToItsResults) {
 
 }  // namespace
 }  // namespace granulab::server
+
+namespace granulab::server {
+namespace {
+
+// Jobs on a Slurm cluster (job_store_cluster.cpp): the transitions the executor and the workers rely on.
+TEST(JobStoreCluster, ASlurmJobIsGivenOnceAndOnlyItsOwnStateLands) {
+  JobStore store(":memory:");
+  const auto id = store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
+  ASSERT_EQ(store.unsubmitted(10).size(), 1u);
+  EXPECT_EQ(store.worker_token(id, "first"), "first");
+  EXPECT_EQ(store.worker_token(id, "second"), "first");  // a secret never changes once set
+  EXPECT_TRUE(store.set_slurm_job(id, "41"));
+  EXPECT_FALSE(store.set_slurm_job(id, "42"));  // already on the cluster: never submitted twice
+  EXPECT_TRUE(store.unsubmitted(10).empty());
+  ASSERT_EQ(store.on_cluster().size(), 1u);
+  store.set_slurm_state(id, "40", "RUNNING", false);  // news of another Slurm job: ignored
+  EXPECT_EQ(store.get(id)->slurm_state, "SUBMITTED");
+  EXPECT_FALSE(store.mark_running(id, "40"));
+  EXPECT_TRUE(store.mark_running(id, "41"));
+  store.set_slurm_state(id, "41", "RUNNING", false);
+  EXPECT_EQ(store.get(id)->slurm_state, "RUNNING");
+  EXPECT_EQ(store.requeue_for_cluster(id, "time limit"), JobStore::Requeue::requeued);
+  const auto back = store.get(id);
+  EXPECT_EQ(back->status, "queued");
+  EXPECT_EQ(back->slurm_job_id, "");
+  EXPECT_EQ(back->slurm_attempts, 1);
+  EXPECT_EQ(store.unsubmitted(10).size(), 1u);
+}
+
+TEST(JobStoreCluster, ARequeueHonoursACancelAndTheLimitOfSlurmJobs) {
+  JobStore store(":memory:");
+  const auto submit = [&] {
+    return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
+  };
+  const auto cancelled = submit();
+  ASSERT_TRUE(store.set_slurm_job(cancelled, "7"));
+  ASSERT_TRUE(store.mark_running(cancelled, "7"));
+  ASSERT_EQ(store.request_cancel(cancelled), JobStore::CancelResult::requested_running);
+  EXPECT_EQ(store.requeue_for_cluster(cancelled, "signal USR1"), JobStore::Requeue::cancelled);
+  EXPECT_EQ(store.get(cancelled)->status, "cancelled");
+
+  const auto endless = submit();
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(store.set_slurm_job(endless, std::to_string(100 + k)));
+    ASSERT_EQ(store.requeue_for_cluster(endless, "time limit", 3), k < 2 ? JobStore::Requeue::requeued : JobStore::Requeue::failed);
+  }
+  const auto failed = store.get(endless);
+  EXPECT_EQ(failed->status, "failed");
+  EXPECT_NE(failed->error.find("3 Slurm jobs"), std::string::npos) << failed->error;
+  EXPECT_NE(failed->error.find("kMaxSlurmAttempts"), std::string::npos) << failed->error;
+  EXPECT_EQ(store.requeue_for_cluster(endless, "again"), JobStore::Requeue::not_active);
+}
+
+TEST(JobStoreCluster, ALocalStartTakesClusterJobsBackAndRevokesTheirWorkers) {
+  JobStore store(":memory:");
+  const auto id = store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
+  store.worker_token(id, "secret");
+  ASSERT_TRUE(store.set_slurm_job(id, "5"));
+  ASSERT_TRUE(store.mark_running(id, "5"));
+  EXPECT_EQ(store.requeue_running(/*keep_cluster_jobs=*/true), 0u);  // the Slurm executor follows it again
+  EXPECT_EQ(store.get(id)->status, "running");
+  EXPECT_EQ(store.worker_secrets().size(), 1u);
+  EXPECT_EQ(store.requeue_running(/*keep_cluster_jobs=*/false), 1u);  // the local pool takes it
+  EXPECT_EQ(store.get(id)->status, "queued");
+  EXPECT_EQ(store.get(id)->slurm_job_id, "");
+  EXPECT_EQ(store.worker_token(id), "");
+}
+
+}  // namespace
+}  // namespace granulab::server
