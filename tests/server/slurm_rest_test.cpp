@@ -33,11 +33,11 @@ class FakeSlurmrestd : public ::testing::Test {
       last_token_ = req.get_header_value("X-SLURM-USER-TOKEN");
       res.set_content(json{{"meta", meta(dialect_)}, {"errors", json::array()}, {"pings", json::array()}}.dump(), "application/json");
     });
-    server_.Post(R"(/slurm/v0\.0\.38/job/submit)", [](const httplib::Request&, httplib::Response& res) {
-      // A 200 that carries Slurm's refusal.
-      res.set_content(json{{"meta", meta("v0.0.38")},
-                           {"errors", {{{"error", "Invalid partition name specified"}, {"error_number", 2000}}}}}
-                          .dump(),
+    server_.Post(R"(/slurm/v0\.0\.38/job/submit)", [this](const httplib::Request&, httplib::Response& res) {
+      // A 200 that carries Slurm's refusal of the job, or a 500 while slurmctld is away.
+      if (controller_away_) res.status = 500;
+      const std::string why = controller_away_ ? "Unable to contact slurm controller (connect failure)" : "Invalid partition name specified";
+      res.set_content(json{{"meta", meta("v0.0.38")}, {"errors", {{{"error", why}, {"error_number", 2000}}}}}.dump(),
                       "application/json");
     });
     server_.Get(R"(/slurm/v0\.0\.38/job/(\d+))", [](const httplib::Request& req, httplib::Response& res) {
@@ -71,6 +71,7 @@ class FakeSlurmrestd : public ::testing::Test {
   std::thread serving_;
   int port_ = 0;
   std::string dialect_ = "v0.0.38", last_user_, last_token_;
+  bool controller_away_ = false;
 };
 
 TEST_F(FakeSlurmrestd, TheDialectIsCheckedAndANewerOneIsRefusedByName) {
@@ -93,6 +94,16 @@ TEST_F(FakeSlurmrestd, SlurmsErrorsInA200AreARefusal) {
     FAIL() << "a refused submission returned";
   } catch (const Refused& e) {
     EXPECT_NE(std::string(e.what()).find("Invalid partition name specified"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(FakeSlurmrestd, AControllerAwayIsWorthTryingAgainNotARefusalOfTheJob) {
+  controller_away_ = true;
+  try {
+    client().submit({{"name", "x"}}, "#!/bin/sh\n");
+    FAIL() << "a submission without a controller returned";
+  } catch (const Unreachable& e) {
+    EXPECT_NE(std::string(e.what()).find("Unable to contact slurm controller"), std::string::npos) << e.what();
   }
 }
 
