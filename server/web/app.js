@@ -184,6 +184,8 @@ async function jobView(id) {
       ...warnings.map((w) => el("p", {}, el("span", { class: "warning" }, "⚠ " + w))),
       el("p", { class: "hint" }, job.experiment, job.owner ? " · owner " + job.owner : "",
         job.sweep_id ? [" · ", el("a", { href: "#/sweeps/" + job.sweep_id }, "sweep " + job.sweep_id)] : "",
+        // On a Slurm cluster: which Slurm job, and Slurm's word on it (e.g. PENDING (Resources)).
+        job.slurm_job_id ? " · Slurm job " + job.slurm_job_id + (job.slurm_state ? ": " + job.slurm_state : "") : "",
         " · engine ", job.engine_version, " · submitted ", when(job.created_ms)),
       job.summary && job.summary.first_yield ? el("p", {}, "first yield ", fmt(job.summary.first_yield.deviator_over_p0),
         " p0 at ", fmt(100 * job.summary.first_yield.strain), " % strain; peak ", fmt(job.summary.peak.deviator_over_p0),
