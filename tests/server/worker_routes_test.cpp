@@ -84,8 +84,8 @@ class WorkerRoutes : public ::testing::Test {
     fs::remove_all(dir_);
   }
 
-  std::int64_t submit(const std::string& secret) {
-    auto r = client_->Post("/v1/jobs", kSpec, "application/json");
+  std::int64_t submit(const std::string& secret, const char* spec = kSpec) {
+    auto r = client_->Post("/v1/jobs", spec, "application/json");
     EXPECT_TRUE(r && r->status == 201) << (r ? r->body : "no answer");
     const std::int64_t id = json::parse(r->body)["id"].get<std::int64_t>();
     EXPECT_EQ(store_->worker_token(id, secret), secret);
@@ -114,8 +114,8 @@ class WorkerRoutes : public ::testing::Test {
     ::waitpid(pid, &status, 0);
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
-  std::string local_curve() {
-    std::ofstream(dir_ / "spec.json") << kSpec;
+  std::string local_curve(const char* spec = kSpec) {
+    std::ofstream(dir_ / "spec.json") << spec;
     const std::string cmd = std::string(GRANULAB_BINARY_DIR) + "/granulab run " + (dir_ / "spec.json").string() + " --out " +
                             (dir_ / "local").string() + " --threads 1 --quiet > /dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
@@ -143,6 +143,26 @@ TEST_F(WorkerRoutes, AWorkerRunsItsJobToTheCurveOfALocalRun) {
   // A finished job does not start again: a second worker is turned away without running it.
   EXPECT_EQ(finish(start_worker(id, "0123456789abcdef0123456789abcdef")), 0);
   EXPECT_EQ(job(id)["status"], "succeeded");
+}
+
+TEST_F(WorkerRoutes, ACrystalsSnapshotsComeBackAsALocalRunWritesThem) {
+  // 36 grains, 0.3 s: confinement, then two snapshots on the way to 0.2 % strain.
+  const char* crystal = R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+                            "crystal": {"grains_x": 3, "rows_z": 6, "layers_y": 2},
+                            "loading": {"confining_pressure": 30000, "max_strain": 0.002, "rate_number": 1e-4},
+                            "output": {"curve_points": 20, "snapshot_strains": [0, 0.001]}, "run": {"threads": 1}})";
+  const std::int64_t id = submit("eeeeeeeeeeeeeeeeeeeeeeeeeeeeeeee", crystal);
+  EXPECT_EQ(finish(start_worker(id, "eeeeeeeeeeeeeeeeeeeeeeeeeeeeeeee")), 0);
+  ASSERT_EQ(job(id)["status"], "succeeded") << job(id).dump();
+  EXPECT_EQ(curve_csv(id), local_curve(crystal));
+  const json listed = json::parse(client_->Get("/v1/jobs/" + std::to_string(id) + "/snapshots")->body)["snapshots"];
+  ASSERT_EQ(listed.size(), 2u) << listed.dump();
+  for (int k = 0; k < 2; ++k) {
+    const auto served = client_->Get("/v1/jobs/" + std::to_string(id) + "/snapshots/" + std::to_string(k));
+    ASSERT_TRUE(served && served->status == 200);
+    EXPECT_EQ(json::parse(served->body), json::parse(read(dir_ / "local" / "snapshots" / ("snapshot_" + std::to_string(k) + ".json"))))
+        << "snapshot " << k;
+  }
 }
 
 TEST_F(WorkerRoutes, ASecretOpensOnlyItsOwnJobsWorkerRoutes) {
