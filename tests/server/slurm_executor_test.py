@@ -42,10 +42,11 @@ def short_spec(rate):
     return {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4},
             "loading": {"rate_number": rate, "max_slide": 0.3}, "output": {"curve_points": 30}}
 
-# About 40 s on one thread (4 million steps): with the 1-minute Slurm time limit the daemon sets here, Slurm's
-# warning (30 s before the limit, checked every ~30 s) comes 20-30 s into each Slurm job.
+# About 60 s on one thread (6.7 million steps): with the 1-minute Slurm time limit the daemon sets here, Slurm's
+# warning (30 s before the limit, checked every ~30 s) came 20-30 s into each Slurm job, so even a machine
+# twice as fast is warned at least once.
 LONG_SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 10},
-             "loading": {"rate_number": 5e-7, "max_slide": 0.4}, "output": {"curve_points": 40}}
+             "loading": {"rate_number": 3e-7, "max_slide": 0.4}, "output": {"curve_points": 40}}
 
 
 def free_port():
