@@ -9,6 +9,7 @@
 
 #include "server/store/migrations.h"
 #include "server/store/sqlite.h"
+#include "server/store/store_clock.h"
 
 namespace granulab::server {
 
@@ -16,11 +17,6 @@ namespace {
 
 using sqlite::Statement;
 using sqlite::Transaction;
-
-std::int64_t now_ms() {
-  using namespace std::chrono;
-  return duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
-}
 
 // Column order of read_job().
 constexpr const char* kJobColumns =

@@ -1,9 +1,8 @@
 // JobStore: the state of jobs that run on a Slurm cluster (job_store.h, "Jobs on a Slurm cluster").
 // Same rules as job_store.cpp: the mutex, one transaction per change, its event in the same transaction.
-#include <chrono>
-
 #include "server/store/job_store.h"
 #include "server/store/sqlite.h"
+#include "server/store/store_clock.h"
 
 namespace granulab::server {
 
@@ -11,11 +10,6 @@ namespace {
 
 using sqlite::Statement;
 using sqlite::Transaction;
-
-std::int64_t now_ms() {
-  using namespace std::chrono;
-  return duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
-}
 
 }  // namespace
 
