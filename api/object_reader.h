@@ -37,6 +37,9 @@ class ObjectReader {
   /// Marks a key as known (it is read elsewhere, e.g. a nested object).
   void known(const std::string& key) { seen_.insert(key); }
 
+  /// Whether the object holds `key`, null (the field's default) included; the key is not marked as read.
+  bool has(const std::string& key) const { return object_.contains(key); }
+
   /// Throws on unknown keys; returns the object with every default filled in.
   nlohmann::json finish();
 

@@ -67,6 +67,8 @@ void SpecReader::end_list() {
   list_items_.clear();
 }
 
+bool SpecReader::present(const char* key) { return current().has(key); }
+
 void SpecReader::require(bool ok, const char* field, const std::string& message) {
   if (!ok) throw SpecError("out_of_range", field, message);
 }

@@ -32,6 +32,7 @@ class SpecReader : public ParameterVisitor {
   void begin_item(std::size_t index) override;
   void end_item() override;
   void end_list() override;
+  bool present(const char* key) override;
   void require(bool ok, const char* field, const std::string& message) override;
 
   /// Throws SpecError on keys no one visited (top level first); returns the normalised spec.

@@ -25,20 +25,8 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   std::fill(torque.begin(), torque.end(), Vec3::Zero());
   stats_ = MembraneStats{};
   if (spheres.empty()) return;
-  Vec3 lo = spheres.front(), hi = lo;
-  for (const Vec3& s : spheres) lo = lo.cwiseMin(s), hi = hi.cwiseMax(s);
-  lo.array() -= radius;
-  hi.array() += radius;
-  // The cells lie on a fixed lattice (multiples of the cell size), not on the sample's bounding box:
-  // a box that follows the extreme sphere shifts every cell by a little at each update, which flips
-  // cells in and out of the spheres' discs and kept a confined sample oscillating for ever.
-  for (int k = 0; k < 3; ++k) lo[k] = std::floor(lo[k] / cell_) * cell_;
-  // Guard before the threads start (an exception cannot leave a parallel region): a blown-up run's
-  // bounding box would size the maps beyond any memory.
-  const Vec3 cells = (hi - lo) / cell_;
-  if (!lo.allFinite() || !hi.allFinite() || !(cells.x() * cells.z() < kMaxCells && cells.y() * cells.z() < kMaxCells))
-    throw std::runtime_error("the vacuum bag's height map would need " + std::to_string(cells.x() * cells.z()) +
-                             " cells: the sample has flown apart (an unstable time step?)");
+  Vec3 lo, hi;
+  bounds(spheres, radius, lo, hi);
 
   // The two faces normal to one axis share a map over the same plane (one scan gives both outermost
   // spheres); the x pair and the y pair run on separate threads into their own buffers.
@@ -63,11 +51,40 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   stats_.grains = std::size_t(std::count(touched.begin(), touched.end(), true));
 }
 
+void Membrane::bounds(const std::vector<Vec3>& spheres, double radius, Vec3& lo, Vec3& hi) const {
+  lo = spheres.front(), hi = lo;
+  for (const Vec3& s : spheres) lo = lo.cwiseMin(s), hi = hi.cwiseMax(s);
+  lo.array() -= radius;
+  hi.array() += radius;
+  // The cells lie on a fixed lattice (multiples of the cell size), not on the sample's bounding box:
+  // a box that follows the extreme sphere shifts every cell by a little at each update, which flips
+  // cells in and out of the spheres' discs and kept a confined sample oscillating for ever.
+  for (int k = 0; k < 3; ++k) lo[k] = std::floor(lo[k] / cell_) * cell_;
+  // Guard before the threads start (an exception cannot leave a parallel region): a blown-up run's
+  // bounding box would size the maps beyond any memory.
+  const Vec3 cells = (hi - lo) / cell_;
+  if (!lo.allFinite() || !hi.allFinite() ||
+      !(cells.x() * cells.z() < kMaxCells && cells.y() * cells.z() < kMaxCells && cells.x() * cells.y() < kMaxCells))
+    throw std::runtime_error("the vacuum bag's height map would need " + std::to_string(cells.x() * cells.z()) +
+                             " cells: the sample has flown apart (an unstable time step?)");
+}
+
+std::pair<double, double> Membrane::end_forces(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres,
+                                               std::size_t per_body, double radius, std::vector<Vec3>& force) const {
+  if (spheres.empty()) return {0, 0};
+  Vec3 lo, hi;
+  bounds(spheres, radius, lo, hi);
+  AxisScratch a;
+  map_axis(2, lo, hi, body_positions, spheres, per_body, radius, a);
+  for (std::size_t b = 0; b < body_positions.size(); ++b) force[b] += a.force[b];
+  return {a.area[0], a.area[1]};
+}
+
 void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
                         const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const {
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   const double cell_area = cell_ * cell_;
-  const int u = axis == 0 ? 1 : 0, v = 2;  // the map's in-plane axes (z is always one)
+  const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;  // the map's in-plane axes
   const int nu = int(std::ceil((hi[u] - lo[u]) / cell_)), nv = int(std::ceil((hi[v] - lo[v]) / cell_));
   const std::size_t cells = std::size_t(nu) * nv;
   for (int side = 0; side < 2; ++side) {

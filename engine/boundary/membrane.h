@@ -45,6 +45,12 @@ class Membrane {
   void apply(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres, std::size_t per_body,
              double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque);
 
+  /// The same load on the two end faces (+z, -z), as if the bag were wrapped over them too: p0 x each
+  /// grain's projected area along the inward face normal, added into `force` (applied at the grain's
+  /// centre: no torque). Returns the faces' projected areas {+z, -z} (m^2). For fixed confining forces.
+  std::pair<double, double> end_forces(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres,
+                                       std::size_t per_body, double radius, std::vector<Vec3>& force) const;
+
   double pressure() const { return pressure_; }
   void set_pressure(double p) { pressure_ = p; }
   const MembraneStats& stats() const { return stats_; }
@@ -64,6 +70,8 @@ class Membrane {
     std::vector<std::pair<double, std::size_t>> heap;  // the flood's queue storage, reused
     double area[2] = {0, 0}, load_centre[2] = {0, 0}, bridged_area = 0, max_depth = 0;
   };
+  /// The maps' common origin `lo` (on the cell lattice) and far corner `hi`; throws when the sample has flown apart.
+  void bounds(const std::vector<Vec3>& spheres, double radius, Vec3& lo, Vec3& hi) const;
   void local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const;
   void map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
                 const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const;

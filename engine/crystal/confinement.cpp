@@ -50,7 +50,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     std::optional<StageTimer> control(control_time);
     for (std::size_t w : {top, bottom}) {
       Wall& wall = world.walls()[w];
-      const double error = (p0 - sample.wall_stress(w)) * sample.cross_section();  // N; > 0: push in
+      const double error = (p0 - sample.axial_stress(w)) * sample.cross_section();  // N; > 0: push in
       const double stiffness = kn * double(std::max<std::size_t>(1, wall.contacts));
       // At most a tenth of the skin per step, so a wall far from contact cannot jump into the spheres.
       const double max_speed = 0.1 * world.settings().skin / world.settings().time_step;
@@ -67,8 +67,8 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       {
         StageTimer t(control_time);
         const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
-        const bool walls_ok = std::abs(sample.wall_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
-                              std::abs(sample.wall_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
+        const bool walls_ok = std::abs(sample.axial_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
+                              std::abs(sample.axial_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
         const bool quiet = ke <= p.kinetic_tolerance * ee;
         good = walls_ok && quiet ? good + 1 : 0;
       }
@@ -90,8 +90,8 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
   }
   for (Wall& w : world.walls()) w.velocity.setZero();
   r.steps = world.steps() - start;
-  r.stress_top = sample.wall_stress(top);
-  r.stress_bottom = sample.wall_stress(bottom);
+  r.stress_top = sample.axial_stress(top);
+  r.stress_bottom = sample.axial_stress(bottom);
   std::tie(r.lateral_stress_x, r.lateral_stress_y) = sample.lateral_stresses();
   r.kinetic_elastic_ratio = sample.kinetic_elastic_ratio();
   return r;

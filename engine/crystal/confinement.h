@@ -1,5 +1,6 @@
 // Phase 2 of every crystal experiment (docs/model.md, "Confinement"): the vacuum bag pushes the lateral
-// faces with p0, both platens are servo-controlled to p0, until the equilibrium criterion holds (wall
+// faces with p0, both platens are servo-controlled to an axial stress of p0 (CrystalSample::axial_stress:
+// with fixed forces, the ends' forces carry p0 and the platens servo to bare contact), until the equilibrium criterion holds (wall
 // stresses within `equilibrium_tolerance` of p0 and kinetic energy below `kinetic_tolerance` of the
 // elastic energy, at `equilibrium_checks` membrane intervals in a row) or max_confinement_steps pass.
 // The platens are left at rest.
@@ -17,8 +18,8 @@ namespace granulab {
 struct ConfinementReport {
   std::uint64_t steps = 0;             ///< time steps taken (-)
   bool converged = false;              ///< the criterion held (false: stopped at max_confinement_steps)
-  double stress_top = 0;               ///< top platen stress at the end (Pa)
-  double stress_bottom = 0;            ///< bottom platen stress at the end (Pa)
+  double stress_top = 0;               ///< axial stress at the top platen at the end (Pa)
+  double stress_bottom = 0;            ///< at the bottom platen (Pa)
   double lateral_stress_x = 0;         ///< CrystalSample::lateral_stresses() at the end (Pa)
   double lateral_stress_y = 0;         ///< (Pa)
   double kinetic_elastic_ratio = 0;    ///< at the end (-)

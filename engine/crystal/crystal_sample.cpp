@@ -85,10 +85,58 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
 }
 
 void CrystalSample::update_membrane() {
+  if (fixed_.on) return;
   const std::vector<Vec3>& spheres = world_.sphere_positions();  // timed as the world's own stage
   StageTimer t(world_.stage_times().membrane);
   membrane_.apply(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), world_.external_force(),
                   world_.external_torque());
+}
+
+void CrystalSample::fix_confining_forces() {
+  update_membrane();  // the lateral faces' forces, from the sample as it is now
+  std::vector<Vec3>& force = world_.external_force();
+  std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
+  const std::vector<Vec3>& spheres = world_.sphere_positions();
+  std::vector<Vec3> ends(force.size(), Vec3::Zero());
+  const auto [top_area, bottom_area] =
+      membrane_.end_forces(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), ends);
+  const MembraneStats& m = membrane_.stats();
+  for (int k = 0; k < 4; ++k) fixed_.area[k] = m.area[k], fixed_.load[k] = membrane_.pressure() * m.area[k];
+  fixed_.area[4] = top_area, fixed_.area[5] = bottom_area;
+  // The ends take over the platens' load as it is (p0 x cross-section, within the confinement's
+  // tolerance), shared among the end grains by projected area: the axial stress is the same before and
+  // after. (A jagged end's projected area is larger than the cross-section stresses are divided by, by
+  // the grains' overhang at its rim: 24 % on a 4 x 3 end.)
+  fixed_.load[4] = -world_.walls()[top_].force.dot(world_.walls()[top_].normal);
+  fixed_.load[5] = -world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal);
+  const double top_scale = top_area > 0 ? fixed_.load[4] / (membrane_.pressure() * top_area) : 0;
+  const double bottom_scale = bottom_area > 0 ? fixed_.load[5] / (membrane_.pressure() * bottom_area) : 0;
+  for (std::size_t b = 0; b < force.size(); ++b) {
+    double& fz = ends[b][2];
+    fz *= fz < 0 ? top_scale : bottom_scale;  // the top end is pushed down
+    force[b] += ends[b];
+  }
+  // The platens step back by their deepest sphere's overlap: bare contact, carrying nothing, while the
+  // grains feel the same axial load as before. They take up the deviator as soon as they move in.
+  // (They must not be servoed to bare contact instead: a body under fixed compressive forces is unstable
+  // in rotation, since a tilt turns the end forces into a couple that tilts it further, and platens that
+  // carry nothing cannot hold it; a 4 x 8 x 3 crystal flew apart so in 10,000 steps.)
+  for (std::size_t w : {top_, bottom_}) {
+    Wall& wall = world_.walls()[w];
+    double deepest = 0;
+    for (const Vec3& x : spheres) deepest = std::max(deepest, grain_.radius() - (x - wall.point).dot(wall.normal));
+    wall.point -= deepest * wall.normal;
+  }
+  fixed_.on = true;
+  // The forces of this state, as the loading's first step and row must see them (at rest, the one more
+  // evaluation adds nothing to the contacts' shear histories that matters: v_t dt with v_t ~ 0).
+  world_.compute_forces();
+}
+
+double CrystalSample::axial_stress(std::size_t w) const {
+  double end = 0;
+  if (fixed_.on) end = (w == top_ ? fixed_.load[4] : fixed_.load[5]) / cross_section_;
+  return wall_stress(w) + end;
 }
 
 void CrystalSample::check_finite() const {
@@ -135,11 +183,15 @@ std::pair<double, double> CrystalSample::lateral_stresses() const {
 void CrystalSample::save(CheckpointWriter& w) const {
   world_.save(w);
   membrane_.save(w);
+  w.section("fixed_forces");
+  w.value(fixed_);
 }
 
 void CrystalSample::restore(CheckpointReader& r) {
   world_.restore(r);
   membrane_.restore(r);
+  r.section("fixed_forces");
+  r.value(fixed_);
 }
 
 }  // namespace granulab

@@ -16,6 +16,15 @@
 
 namespace granulab {
 
+/// Fixed confining forces (CrystalSample::fix_confining_forces): per face +x, -x, +y, -y, +z, -z, the
+/// projected area of its grains (m^2) and the sum of their forces along the face's inward normal (N):
+/// p0 x area on the lateral faces, the platens' load when they were fixed on the ends.
+struct FixedForces {
+  bool on = false;
+  double area[6] = {0, 0, 0, 0, 0, 0};
+  double load[6] = {0, 0, 0, 0, 0, 0};
+};
+
 struct CrystalSampleParams {
   GrainGeometry grain{Shape::rhombic_dodecahedron, 0.01, 10, 0.75};
   Material material{};  // E = 3 GPa, rho = 1200, f = 0.35
@@ -88,11 +97,21 @@ class CrystalSample {
   std::pair<double, double> lateral_stresses() const;
   /// Kinetic over elastic energy of the contacts (-), 0 without contacts.
   double kinetic_elastic_ratio() const;
-  /// Re-detects the bag's surface and recomputes its forces.
+  /// Re-detects the bag's surface and recomputes its forces; nothing once the forces are fixed.
   void update_membrane();
+  /// Replaces the bag by fixed forces, as the paper's LAMMPS scripts confined the crystal: each surface
+  /// grain gets, once, p0 x its projected area along the inward normal of each lateral face it lies on,
+  /// at its centre, from the sample as it is (confined); the end grains share the platens' present load
+  /// in proportion to their projected areas on the ends, and the platens step back to bare contact. These
+  /// forces then stay as they are, whatever the grains do; the platens carry the deviator alone, and
+  /// axial_stress() counts both. Call on a sample at rest, right before it is loaded.
+  void fix_confining_forces();
+  const FixedForces& fixed_forces() const { return fixed_; }
+  /// The axial stress on the face at a platen (Pa): wall_stress() plus the fixed forces on that end.
+  double axial_stress(std::size_t wall) const;
   /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
   void check_finite() const;
-  /// The world and the bag (checkpoints); everything else follows from the parameters.
+  /// The world, the bag and fixed forces (checkpoints); everything else follows from the parameters.
   void save(CheckpointWriter& w) const;
   void restore(CheckpointReader& r);
 
@@ -102,6 +121,7 @@ class CrystalSample {
   CrystalLattice lattice_;
   World world_;
   Membrane membrane_;
+  FixedForces fixed_;
   std::vector<GrainId> ids_;
   std::size_t top_ = 0, bottom_ = 1;
   double cross_section_ = 0, t0_ = 0;

@@ -49,6 +49,12 @@ class ParameterVisitor {
   virtual void begin_item(std::size_t index) = 0;
   virtual void end_item() = 0;
   virtual void end_list() = 0;
+  /// Whether the object being read holds `key`: for list items made of one of several alternatives
+  /// (a loading program's segment). Visitors that describe the spec answer true, describing them all.
+  virtual bool present(const char* key) {
+    (void)key;
+    return true;
+  }
   /// A rule between fields: when `ok` is false the spec is rejected, naming `field` (dotted path).
   virtual void require(bool ok, const char* field, const std::string& message) = 0;
 };

@@ -156,6 +156,8 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["loading"]["rate_number"] = 60e3 / 3e9;
   expected["crystal"]["knockout_regions"] = json::array();
   expected["loading"]["wall_friction"] = 0.35;  // an extension: the platens' f, by default the grains'
+  expected["loading"]["confinement"] = "membrane";    // extensions: the bag, and no loading program
+  expected["loading"]["program"] = json::array();
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
   json got = spec.normalized;
   // Engine knobs that are not in the contract example.
@@ -475,9 +477,9 @@ TEST(Results, CurveCsvOfEmptyCurveIsTheHeaderAlone) {
 }
 
 TEST(Results, CrystalCountsAreIntegersAndTheEnergyRatioHasSixDigits) {
-  CrystalRow row{0.001, 61234.5678912, 60000, 612.345678912, -1e-5, 2e-5, 59999.5, 1.23456789e-3, 193012, 12};
+  CrystalRow row{0.001, 61234.5678912, 60000, 612.345678912, -1e-5, 2e-5, 59999.5, 1.23456789e-3, 193012, 12, 3};
   EXPECT_EQ(curve_csv_line(CrystalRow::columns(), row.values()),
-            "0.001,61234.5679,60000,612.345679,-1e-05,2e-05,59999.5,0.00123457,193012,12\n");
+            "0.001,61234.5679,60000,612.345679,-1e-05,2e-05,59999.5,0.00123457,193012,12,3\n");
 }
 
 TEST(Results, SummaryJsonHasTheContractKeysWithUnits) {

@@ -55,6 +55,14 @@ TINY = {
                             "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 1}},
 }
 REGION = {"x": 0, "z": 0, "radius": 1}  # a valid element of an array of objects (crystal.knockout_regions)
+# Arrays whose elements hold exactly one of their fields (a loading program's segments): an element made
+# of the field alone is valid, and this one is valid for the element cases.
+ONE_OF = {"program": {"to_strain": 0.001}}
+
+
+def valid_element(name):
+    """A valid element of the array of objects `name` (its key, e.g. knockout_regions)."""
+    return dict(ONE_OF.get(name, REGION))
 
 
 def tiny(experiment):
@@ -425,7 +433,7 @@ def set_path(doc, dotted, value):
     for k, part in enumerate(parts):
         last = k == len(parts) - 1
         if part.endswith("[]"):  # an array of objects: one valid element holding the rest
-            item = dict(REGION)
+            item = {} if part[:-2] in ONE_OF else valid_element(part[:-2])
             node[part[:-2]] = [item]
             node = item
             continue
@@ -498,9 +506,10 @@ def field_cases(experiments):
                 if kind == "array of objects":
                     bad += [("element number", [1], element), ("element string", ["x"], element),
                             ("element array", [[]], element), ("element bool", [True], element),
-                            ("element with an unknown key", [dict(REGION, bogus=1)], (where + "[0].bogus",))]
+                            ("element with an unknown key", [dict(valid_element(name.split(".")[-1]), bogus=1)],
+                             (where + "[0].bogus",))]
                     if "max_items" in f:
-                        bad.append(("too many items", [dict(REGION)] * (f["max_items"] + 1), (where,)))
+                        bad.append(("too many items", [valid_element(name.split(".")[-1])] * (f["max_items"] + 1), (where,)))
                 else:
                     bad += [("element string", ["x"], element), ("element bool", [True], element),
                             ("element array", [[0]], element), ("element object", [{}], element),
@@ -573,7 +582,7 @@ def structure_cases(experiments):
         for lst in lists:
             section, key = lst.split(".", 1)
             doc = tiny(exp)
-            doc.setdefault(section, {})[key] = [dict(REGION), dict(REGION, bogus=True)]
+            doc.setdefault(section, {})[key] = [valid_element(key), dict(valid_element(key), bogus=True)]
             cases.append(post_spec(f"{exp} unknown key in {lst}[1]", dumps(doc), expect=400, field=f"{lst}[1].bogus",
                                    code="unknown_field"))
             doc = tiny(exp)

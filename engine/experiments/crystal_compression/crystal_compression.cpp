@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "engine/analysis/grain_kinematics.h"
 
@@ -43,6 +45,7 @@ const std::vector<CurveColumn>& CrystalRow::columns() {
       {"kinetic_elastic_ratio", "-", "kinetic / elastic energy", 6},
       {"contacts", "-", "sphere pairs in contact", 0},
       {"sliding_contacts", "-", "of which at the Coulomb limit", 0},
+      {"segment", "-", "loading.program segment the row belongs to (0 without a program)", 0},
   };
   return c;
 }
@@ -51,7 +54,7 @@ std::vector<double> CrystalRow::values() const {
   return {strain,           stress_top,           stress_bottom,
           deviator,         lateral_strain_x,     lateral_strain_y,
           lateral_stress,   kinetic_elastic_ratio, double(contacts),
-          double(sliding_contacts)};
+          double(sliding_contacts), double(segment)};
 }
 
 std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
@@ -82,8 +85,8 @@ CrystalRow CrystalCompression::measure(double strain) const {
   const World& world = sample_.world();
   const auto& x = world.bodies().position;
   row.strain = strain;
-  row.stress_top = sample_.wall_stress(sample_.top_wall());
-  row.stress_bottom = sample_.wall_stress(sample_.bottom_wall());
+  row.stress_top = sample_.axial_stress(sample_.top_wall());
+  row.stress_bottom = sample_.axial_stress(sample_.bottom_wall());
   row.deviator = (row.stress_top + row.stress_bottom) / 2 - params_.confining_pressure;
   const double width = mean_coordinate(sample_.side(1), x, 0) - mean_coordinate(sample_.side(0), x, 0);
   const double thickness = mean_coordinate(sample_.side(3), x, 1) - mean_coordinate(sample_.side(2), x, 1);
@@ -95,6 +98,11 @@ CrystalRow CrystalCompression::measure(double strain) const {
   row.contacts = world.contact_stats().contacts;
   row.sliding_contacts = world.contact_stats().sliding;
   return row;
+}
+
+double CrystalCompression::deviator() const {
+  return (sample_.axial_stress(sample_.top_wall()) + sample_.axial_stress(sample_.bottom_wall())) / 2 -
+         params_.confining_pressure;
 }
 
 GrainSnapshot CrystalCompression::snapshot(double strain) const {
@@ -142,6 +150,7 @@ std::string CrystalCompression::checkpoint(const Position& at, const CrystalResu
   out.value(at);
   out.value(r.confinement);
   out.values(r.curve);
+  out.values(r.segments);
   out.value(std::uint64_t(r.snapshots.size()));
   for (const GrainSnapshot& s : r.snapshots) out.value(s.strain), out.value(s.step);
   out.values(ref_position_);
@@ -158,6 +167,7 @@ void CrystalCompression::restore(const std::string& checkpoint, Position& at, Cr
   in.value(at);
   in.value(r.confinement);
   in.values(r.curve);
+  in.values(r.segments);
   r.snapshots.resize(in.value<std::uint64_t>());
   for (GrainSnapshot& s : r.snapshots) in.value(s.strain), in.value(s.step);
   in.values(ref_position_);
@@ -165,6 +175,15 @@ void CrystalCompression::restore(const std::string& checkpoint, Position& at, Cr
   in.values(interfaces_);
   in.value(ref_length_), in.value(ref_width_), in.value(ref_thickness_);
   in.finish();
+}
+
+double loading_steps(const CrystalParams& p, double length) {
+  const double wave_speed = std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
+  const double travel = p.program.empty() ? p.max_strain : planned_travel(p.program);
+  const double moves = p.program.empty() ? 1 : double(p.program.size());
+  // The platen's travel at R c, and about 5 wave transits per segment for its ramps.
+  return (travel * length / (p.rate_number * wave_speed) + moves * 5 * length / wave_speed) / crystal_time_step(p) +
+         hold_steps(p.program);
 }
 
 CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resume) {
@@ -179,7 +198,18 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
   Wall& top = world.walls()[sample_.top_wall()];
   Wall& bottom = world.walls()[sample_.bottom_wall()];
 
+  // Without a program, one compression to max_strain with its rows at curve_strains(); a program's
+  // rows come every curve_points-th of its planned travel, every p0 / 20 of deviator change (so that
+  // the short elastic unloadings and reloadings have rows enough for their slopes) and at the end of
+  // each segment.
+  const bool monotonic = params_.program.empty();
+  std::vector<LoadSegment> program = params_.program;
+  if (monotonic) program.push_back({LoadSegment::Kind::to_strain, params_.max_strain, 0});
   const std::vector<double> record_at = curve_strains(params_.max_strain, params_.curve_points);
+  const double travel_per_row =
+      (planned_travel(program) > 0 ? planned_travel(program) : params_.max_strain) / params_.curve_points;
+  const double deviator_per_row = params_.confining_pressure / 20;
+  constexpr std::uint64_t kMinStepsPerRow = 10;  // bounds the rows of a noisy deviator
   std::vector<double> targets = params_.snapshot_strains;
   std::sort(targets.begin(), targets.end());
   auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
@@ -189,21 +219,24 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
       sink.snapshot(r.snapshots.size() - 1, r.snapshots.back());
     }
   };
+  std::uint64_t row_step = ~std::uint64_t(0);  // the step of the last row, when taken by this call
   auto record = [&](double strain) {
     r.curve.push_back(measure(strain));
+    r.curve.back().segment = at.segment;
+    row_step = world.steps();
     sink.curve_row(r.curve.back().values());
   };
 
   // The progress bar is shared between the phases in proportion to their expected steps, so that an ETA
   // drawn from it holds from the start. Confinement: about 4 of the servo's time constants (20 x 50 contact
-  // times each; a 6 x 12 x 3 crystal took 4.4), at most its step limit; compression: from its rate and length.
+  // times each; a 6 x 12 x 3 crystal took 4.4), at most its step limit; loading: loading_steps().
   const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
   const double dt = world.settings().time_step;
   constexpr double time_constants = 4;
   const double confinement_steps =
       std::min(double(params_.max_confinement_steps), time_constants * 20 * 50 * sample_.contact_time() / dt);
   const double length = ref_length_ > 0 ? ref_length_ : top.point.z() - bottom.point.z();  // before confinement: about it
-  const double compression_steps = (params_.max_strain * length / (params_.rate_number * wave_speed) + 5 * length / wave_speed) / dt;
+  const double compression_steps = loading_steps(params_, length);
   const double share = confinement_steps / (confinement_steps + compression_steps);
   if (!at.compressing) {
     // confine() reports 1 - exp(-steps / time constant): back to time constants, linear in steps.
@@ -211,6 +244,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
       return sink.progress(share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / time_constants));
     };
     r.confinement = granulab::confine(sample_, confinement_progress, nullptr, &at.confinement, safe_point);
+    if (params_.fixed_forces) sample_.fix_confining_forces();
     // Reference state for strains, displacements and lateral strains.
     take_reference();
     at.compressing = true;
@@ -221,38 +255,94 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
 
   const double speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
-  // stress wave of amplitude E R (p0 at the default R = p0 / E) through it.
+  // stress wave of amplitude E R (p0 at the default R = p0 / E) through it. Between segments it also
+  // slows down (platen_speed_fraction).
   const double ramp_time = 10 * ref_length_ / wave_speed;
   const std::uint64_t first = at.first;
-  while (at.next_row < record_at.size()) {
-    // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
-    // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
-    {
-      StageTimer c(world.stage_times().control);
-      const double t = (world.steps() - first) * dt;
-      top.velocity = top.normal * (speed * std::min(1.0, t / ramp_time));
+  const double eps = 1e-12 * params_.max_strain;
+  while (at.segment < program.size()) {
+    const LoadSegment& segment = program[at.segment];
+    const bool last = at.segment + 1 == program.size();
+    if (!at.segment_begun) {
+      at.segment_begun = true;
+      at.segment_first = world.steps();
+      at.segment_strain = strain_now();
+      SegmentRecord begun;
+      begun.kind = segment.kind;
+      begun.first_row = r.curve.size() - 1;
+      if (segment.kind == LoadSegment::Kind::to_deviator) begun.direction = -1;
+      if (segment.kind == LoadSegment::Kind::to_strain)
+        begun.direction = segment.value > at.segment_strain ? 1 : segment.value < at.segment_strain ? -1 : 0;
+      r.segments.push_back(begun);
     }
-    world.step();
-    if ((world.steps() - first) % params_.membrane_interval == 0) {
+    SegmentRecord& current = r.segments.back();
+    const auto done = [&] {
+      if (monotonic) return at.next_row >= record_at.size();
+      switch (segment.kind) {
+        case LoadSegment::Kind::to_strain:
+          return current.direction > 0   ? strain_now() >= segment.value - eps
+                 : current.direction < 0 ? strain_now() <= segment.value + eps
+                                         : true;
+        case LoadSegment::Kind::to_deviator: return deviator() <= segment.value;
+        case LoadSegment::Kind::hold: return world.steps() - at.segment_first >= segment.steps;
+      }
+      return true;
+    };
+    while (!done()) {
+      // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then
+      // crosses the sample, so top and bottom forces agree only when the loading is quasi-static.
       {
         StageTimer c(world.stage_times().control);
-        sample_.check_finite();
+        const double t = (world.steps() - at.segment_first) * dt;
+        const double remaining = segment.kind == LoadSegment::Kind::to_strain
+                                     ? std::abs(segment.value - strain_now()) * ref_length_ / speed
+                                     : ramp_time;  // where a release to a deviator ends is not known
+        const bool slow_down = !last && segment.kind == LoadSegment::Kind::to_strain;
+        top.velocity = top.normal * (current.direction * speed *
+                                     (current.direction ? platen_speed_fraction(t, ramp_time, remaining, slow_down) : 0.0));
       }
-      sample_.update_membrane();
+      world.step();
+      if ((world.steps() - first) % params_.membrane_interval == 0) {
+        {
+          StageTimer c(world.stage_times().control);
+          sample_.check_finite();
+        }
+        sample_.update_membrane();
+      }
+      StageTimer recording(world.stage_times().record);
+      take_due_snapshots();
+      const double strain = strain_now();
+      if (monotonic) {
+        const bool row_due = strain >= record_at[at.next_row] - 1e-12 * params_.max_strain;
+        if (row_due) {
+          while (at.next_row < record_at.size() && strain >= record_at[at.next_row] - 1e-12 * params_.max_strain)
+            ++at.next_row;
+          record(strain);
+        }
+      } else {
+        const double travel = at.segment_travel + std::abs(strain - at.segment_strain);
+        const bool row_due = travel >= at.row_travel + travel_per_row ||
+                             (std::abs(deviator() - r.curve.back().deviator) >= deviator_per_row &&
+                              world.steps() >= row_step + kMinStepsPerRow);  // row_step unknown after a resume: due
+        if (row_due) record(strain), at.row_travel = travel;
+        if (segment.kind == LoadSegment::Kind::to_deviator && strain < -0.05)
+          throw std::runtime_error("loading.program[" + std::to_string(at.segment) + "]: the deviator was still " +
+                                   std::to_string(deviator()) + " Pa, above the target " + std::to_string(segment.value) +
+                                   " Pa, when the platen had released the sample to a strain of -0.05");
+      }
+      // Every step (milliseconds to a second on a crystal; the sink's calls cost a clock read): a cancel or
+      // a shutdown stops the run at once, and a checkpoint may be taken.
+      const double fraction = monotonic ? std::min(1.0, std::max(0.0, strain) / params_.max_strain)
+                                        : std::min(0.99, (world.steps() - first) / compression_steps);
+      if (!sink.progress(share + (1 - share) * fraction)) throw Cancelled();
+      if (!done()) safe_point();
     }
-    StageTimer recording(world.stage_times().record);
-    take_due_snapshots();
-    const double strain = strain_now();
-    const bool row_due = strain >= record_at[at.next_row] - 1e-12 * params_.max_strain;
-    if (row_due) {
-      while (at.next_row < record_at.size() && strain >= record_at[at.next_row] - 1e-12 * params_.max_strain)
-        ++at.next_row;
-      record(strain);
-    }
-    // Every step (milliseconds to a second on a crystal; the sink's calls cost a clock read): a cancel or
-    // a shutdown stops the run at once, and a checkpoint may be taken.
-    if (!sink.progress(share + (1 - share) * std::min(1.0, std::max(0.0, strain) / params_.max_strain))) throw Cancelled();
-    if (at.next_row < record_at.size()) safe_point();
+    if (!monotonic && row_step != world.steps()) record(strain_now()), at.row_travel = at.segment_travel + std::abs(strain_now() - at.segment_strain);
+    current.last_row = r.curve.size() - 1;
+    current.steps = world.steps() - at.segment_first;
+    at.segment_travel += std::abs(strain_now() - at.segment_strain);
+    at.segment_begun = false;
+    ++at.segment;
   }
   sink.progress(1.0);
   top.velocity.setZero();
@@ -262,6 +352,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
   r.initial_length = ref_length_;
   r.cross_section = sample_.cross_section();
   r.knocked_out = sample_.lattice().knocked_out;
+  r.fixed = sample_.fixed_forces();
   r.compression_steps = world.steps() - first;
   r.run = world.run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return r;

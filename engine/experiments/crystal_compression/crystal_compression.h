@@ -2,8 +2,10 @@
 // off-axis orientation, confined by a vacuum bag at p0 and compressed between two frictional walls
 // (docs/model.md, "Crystal lattice", "Confinement", "Compression").
 //  1. build and confine: a CrystalSample and confine() (engine/crystal/), shared by crystal experiments.
-//  2. compress: the top wall moves down at constant speed (the bottom one is fixed), strain rate from the rate number
-//     R = L eps_dot / sqrt(E / rho) (rho with mass scaling); curve rows and snapshots on the way.
+//  2. load: the top wall moves down at constant speed (the bottom one is fixed), strain rate from the rate number
+//     R = L eps_dot / sqrt(E / rho) (rho with mass scaling), to max_strain or through a loading program
+//     (loading_program.h); curve rows and snapshots on the way.
+// The lateral confinement stays the bag, or becomes fixed forces (`confinement`, CrystalSample).
 #pragma once
 
 #include <cstdint>
@@ -12,6 +14,7 @@
 
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
+#include "engine/experiments/crystal_compression/loading_program.h"
 #include "engine/experiments/result_sink.h"
 
 namespace granulab {
@@ -21,6 +24,9 @@ struct CrystalParams : CrystalSampleParams {
   double rate_number = 0;            ///< R (-); 0: quasi_static_rate_number(p0, E)
   int curve_points = 400;            ///< curve rows after the start (-)
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
+  std::vector<LoadSegment> program;  ///< empty: one compression to max_strain
+  /// After confinement by the bag, keep the bag, or fix each surface grain's force (CrystalSample).
+  bool fixed_forces = false;
 };
 
 struct CrystalRow {
@@ -33,6 +39,7 @@ struct CrystalRow {
   double kinetic_elastic_ratio;       ///< kinetic / elastic energy (-)
   std::size_t contacts;               ///< sphere pairs in contact (-)
   std::size_t sliding_contacts;       ///< of which at the Coulomb limit (-)
+  std::size_t segment = 0;            ///< loading program segment (-)
 
   /// The curve's columns (docs/api.md), in the order of values().
   static const std::vector<CurveColumn>& columns();
@@ -42,7 +49,9 @@ struct CrystalRow {
 struct CrystalResult {
   std::vector<CrystalRow> curve;
   std::vector<GrainSnapshot> snapshots;
+  std::vector<SegmentRecord> segments;  ///< one per program segment run (one without a program)
   ConfinementReport confinement;
+  FixedForces fixed;                   ///< the fixed confining forces, when loading.confinement asked for them
   RunStats run;                        ///< steps (confinement included), timings, model numbers
   double prestrain = 0;                ///< eps0 = sqrt2 p0 / E (-)
   double strain_rate = 0;              ///< platen speed / initial length (1/s)
@@ -59,6 +68,9 @@ struct CrystalResult {
 /// p0 / E because a slip event loads the crystal by about E R (c / L) times its duration, against a
 /// strength of order p0.
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
+
+/// The expected time steps of the loading phase (after confinement) of a sample of `length` (m).
+double loading_steps(const CrystalParams& p, double length);
 
 /// The first yield peak of a crystal curve: once the deviator exceeds 0.1 p0, the largest deviator
 /// before it first falls `drop` (relative) below its running maximum. Returns {strain (-), deviator (Pa)};
@@ -94,11 +106,19 @@ class CrystalCompression {
     ConfinementState confinement;
     std::uint64_t first = 0;           ///< world step at which the compression began
     std::size_t next_row = 0, next_snapshot = 0;
+    // The loading program: the segment running, since when, from which strain, and the platen's
+    // travel (the strain it moved over in all, either way) at the segment's start and at the last row.
+    std::size_t segment = 0;
+    bool segment_begun = false;
+    std::uint64_t segment_first = 0;
+    double segment_strain = 0, segment_travel = 0, row_travel = 0;
   };
   std::string checkpoint(const Position& at, const CrystalResult& r) const;
   void restore(const std::string& checkpoint, Position& at, CrystalResult& r);
   void take_reference();
   CrystalRow measure(double strain) const;
+  /// The deviator from the two platens alone (Pa): cheap enough for every step.
+  double deviator() const;
   GrainSnapshot snapshot(double strain) const;
 
   CrystalParams params_;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "engine/analysis/loading_cycles.h"
 #include "engine/crystal/sample_parameters.h"
 
 namespace granulab {
@@ -46,11 +47,107 @@ struct CrystalSummary : ExperimentResult {
       w.end_group();
     }
     w.end_list();
+    write_program(w);
+    if (r.fixed.on) {
+      // Per face, the area the fixed forces were computed from and their sum over it: p0 x area.
+      static const char* const faces[6] = {"x_plus", "x_minus", "y_plus", "y_minus", "z_plus", "z_minus"};
+      w.begin_group("fixed_forces");
+      for (int k = 0; k < 6; ++k) {
+        w.begin_group(faces[k]);
+        w.number("area", r.fixed.area[k], "m^2");
+        w.number("force", r.fixed.load[k], "N");
+        w.end_group();
+      }
+      w.end_group();
+    }
     w.begin_list("warnings");
     write_confinement_warning(w, r.confinement);
     w.end_list();
   }
+
+  // The program's segments as run, and its load-unload cycles (loading_cycles.h).
+  void write_program(SummaryWriter& w) const {
+    std::vector<double> strain, deviator;
+    for (const CrystalRow& row : r.curve) strain.push_back(row.strain), deviator.push_back(row.deviator);
+    std::vector<CurveSegment> spans;
+    w.begin_list("segments");
+    for (std::size_t k = 0; k < r.segments.size(); ++k) {
+      const SegmentRecord& s = r.segments[k];
+      spans.push_back({s.direction, std::size_t(s.first_row), std::size_t(s.last_row)});
+      if (s.last_row >= r.curve.size()) continue;
+      w.begin_group(nullptr);
+      w.count("index", k);
+      w.text("kind", segment_kind_name(s.kind));
+      w.text("direction", s.direction > 0 ? "compress" : s.direction < 0 ? "release" : "hold");
+      w.count("steps", s.steps);
+      w.number("start_strain", strain[s.first_row], "-");
+      w.number("end_strain", strain[s.last_row], "-");
+      w.number("end_deviator", deviator[s.last_row], "Pa");
+      w.end_group();
+    }
+    w.end_list();
+    w.begin_list("cycles");
+    for (const LoadingCycle& c : loading_cycles(strain, deviator, spans)) {
+      w.begin_group(nullptr);
+      w.count("unloading_segment", c.unloading_segment);
+      w.number("peak_strain", c.peak_strain, "-");
+      w.number("peak_deviator", c.peak_deviator, "Pa");
+      w.number("residual_strain", c.residual_strain, "-");
+      w.number("residual_deviator", c.residual_deviator, "Pa");
+      const auto finite = [&](const char* key, double v, const char* unit) {
+        if (std::isfinite(v)) w.number(key, v, unit);  // left out when the curve does not have it
+      };
+      finite("loading_slope", c.loading_slope, "Pa");
+      finite("unloading_slope", c.unloading_slope, "Pa");
+      finite("reloading_slope", c.reloading_slope, "Pa");
+      finite("dissipated_energy", c.dissipated_energy, "J/m^3");
+      w.end_group();
+    }
+    w.end_list();
+  }
 };
+
+}  // namespace
+
+namespace {
+
+void visit_program(ParameterVisitor& v, CrystalParams& p) {
+  const std::size_t n = v.begin_list(
+      "program", 1000,
+      "segments run in order after confinement, each an object with one of to_strain, to_deviator, hold_steps; "
+      "without them the run compresses to max_strain (docs/spec.md, \"Loading programs\")");
+  p.program.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    v.begin_item(i);
+    LoadSegment& segment = p.program[i];
+    const std::string path = "loading.program[" + std::to_string(i) + "]";
+    const bool strain = v.present("to_strain"), deviator = v.present("to_deviator"), hold = v.present("hold_steps");
+    const std::string one_of = "'" + path + "' must hold exactly one of to_strain, to_deviator, hold_steps";
+    v.require(int(strain) + int(deviator) + int(hold) <= 1, path.c_str(), one_of);
+    if (strain) {
+      segment.kind = LoadSegment::Kind::to_strain;
+      v.number("to_strain", segment.value, {0, p.max_strain}, "-",
+               "compress or release the platen to this axial strain, at the rate's speed (at most loading.max_strain)");
+    }
+    if (deviator) {
+      segment.kind = LoadSegment::Kind::to_deviator;
+      v.number("to_deviator", segment.value, {-1e8, 1e8}, "Pa",
+               "release the platen until the deviator falls to this value (above -p0, where the platens let go)");
+      v.require(segment.value > -p.confining_pressure, (path + ".to_deviator").c_str(),
+                "'" + path + ".to_deviator' must be above -p0 = " + std::to_string(-p.confining_pressure) +
+                    " Pa: below it the platens have let go of the crystal");
+    }
+    if (hold) {
+      int steps = 1000;
+      v.integer("hold_steps", steps, 1, 100000000, "hold the platen still for this many time steps");
+      segment.kind = LoadSegment::Kind::hold;
+      segment.steps = std::uint64_t(steps);
+    }
+    v.end_item();  // an unknown key is named here, before the lack of a known one
+    v.require(strain || deviator || hold, path.c_str(), one_of);
+  }
+  v.end_list();
+}
 
 }  // namespace
 
@@ -58,10 +155,20 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   CrystalParams& p = params;
   visit_crystal_sample(v, p);
   v.section("loading");
-  v.number("max_strain", p.max_strain, {0, 0.5, true}, "-", "compression stops here");
+  v.number("max_strain", p.max_strain, {0, 0.5, true}, "-",
+           "compression stops here; with a loading.program, the largest strain its segments may ask for");
   if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-",
            "R = L eps_dot / sqrt(E/rho) (default: p0 / E, quasi-static to 2 %; docs/results.md)");
+  std::string confinement = p.fixed_forces ? "fixed_forces" : "membrane";
+  v.choice("confinement", confinement, {"membrane", "fixed_forces"},
+           "after the bag has confined the crystal: keep the bag, which follows the surface (membrane), or fix "
+           "the forces as the paper's LAMMPS scripts did (fixed_forces): each lateral surface grain keeps p0 x its "
+           "projected area along its face's inward normal and the end grains share the platens' p0 x cross-section, "
+           "fixed in size and direction; the platens then carry the deviator alone (the stress columns count the "
+           "ends back in)");
+  p.fixed_forces = confinement == "fixed_forces";
+  visit_program(v, p);
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000, "curve rows (a quarter of them over the first 2.5 % of the run)");
   // By default, the paper's snapshot strains that the run reaches; explicit ones must be reachable.
@@ -75,12 +182,8 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
 
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
-  // Compression: the platen approaches at R c after a ramp of 10 L / c (run()), over max_strain of a
-  // sample no longer than rows_z grain sizes.
-  const double wave_speed = std::sqrt(params.material.youngs_modulus / (params.material.density * params.mass_scaling));
-  const double length = params.rows_z * params.grain.size;
-  const double seconds = params.max_strain * length / (params.rate_number * wave_speed) + 5 * length / wave_speed;
-  w.steps += seconds / crystal_time_step(params);
+  // Loading: over a sample no longer than rows_z grain sizes.
+  w.steps += loading_steps(params, params.rows_z * params.grain.size);
   return w;
 }
 

@@ -1,0 +1,37 @@
+#include "engine/experiments/crystal_compression/loading_program.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granulab {
+
+const char* segment_kind_name(LoadSegment::Kind kind) {
+  switch (kind) {
+    case LoadSegment::Kind::to_strain: return "to_strain";
+    case LoadSegment::Kind::to_deviator: return "to_deviator";
+    case LoadSegment::Kind::hold: return "hold_steps";
+  }
+  return "?";
+}
+
+double planned_travel(const std::vector<LoadSegment>& program) {
+  double travel = 0, strain = 0;
+  for (const LoadSegment& s : program)
+    if (s.kind == LoadSegment::Kind::to_strain) travel += std::abs(s.value - strain), strain = s.value;
+  return travel;
+}
+
+double hold_steps(const std::vector<LoadSegment>& program) {
+  double steps = 0;
+  for (const LoadSegment& s : program)
+    if (s.kind == LoadSegment::Kind::hold) steps += double(s.steps);
+  return steps;
+}
+
+double platen_speed_fraction(double t, double ramp, double remaining, bool slow_down) {
+  double f = ramp > 0 ? std::min(1.0, t / ramp) : 1.0;
+  if (slow_down && ramp > 0) f = std::min(f, std::max(0.05, remaining / ramp));
+  return f;
+}
+
+}  // namespace granulab
