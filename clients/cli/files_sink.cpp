@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "api/curve_format.h"
+#include "api/pictures/curve_pictures.h"
 #include "api/snapshot_files.h"
 
 namespace granulab::cli {
@@ -21,6 +22,24 @@ long peak_rss_bytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss * 1024L;  // KiB on Linux
+}
+
+// curve.csv (header, then rows of numbers) in the form the pictures take: {"columns": [...], name: [values]}.
+nlohmann::json curve_json(const fs::path& csv, const std::vector<CurveColumn>& columns) {
+  nlohmann::json curve = {{"columns", nlohmann::json::array()}};
+  for (const CurveColumn& c : columns) curve["columns"].push_back(c.name), curve[c.name] = nlohmann::json::array();
+  std::ifstream in(csv, std::ios::binary);
+  std::string line;
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    const char* p = line.c_str();
+    for (const CurveColumn& c : columns) {
+      char* end = nullptr;
+      curve[c.name].push_back(std::strtod(p, &end));
+      p = *end == ',' ? end + 1 : end;
+    }
+  }
+  return curve;
 }
 
 }  // namespace
@@ -97,6 +116,10 @@ void FilesSink::summary(const nlohmann::json& summary) {
   curve_.close();
   nlohmann::json s = summary;
   s["peak_rss_bytes"] = peak_rss_bytes();
+  // The curve as the server draws it (curve.svg), before the summary that marks the run finished.
+  const nlohmann::json spec = s.contains("spec") ? s["spec"] : nlohmann::json::object();
+  write_file(dir_ / "curve.svg",
+             pictures::line_plot_svg(pictures::job_curve_plot(spec, curve_json(dir_ / "curve.csv", columns_), s)));
   write_file(dir_ / "summary.json", s.dump(2) + "\n");
   if (!checkpoint_file_.empty()) fs::remove(checkpoint_file_);  // a finished run is not resumed
 }

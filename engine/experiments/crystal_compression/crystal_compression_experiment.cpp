@@ -115,7 +115,7 @@ void visit_program(ParameterVisitor& v, CrystalParams& p) {
   const std::size_t n = v.begin_list(
       "program", 1000,
       "segments run in order after confinement, each an object with one of to_strain, to_deviator, hold_steps; "
-      "without them the run compresses to max_strain (docs/spec.md, \"Loading programs\")");
+      "without them the run compresses to max_strain (docs/model.md, \"Loading programs\")");
   p.program.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     v.begin_item(i);
