@@ -15,7 +15,7 @@ constexpr std::uint32_t kNoPair = 0xffffffffu;
 constexpr double kRefreshShare = 0.5;
 }  // namespace
 
-NeighborList::NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin)
+NeighborList::NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin, double min_scale)
     : offsets_(offsets), radius_(diameter / 2), skin_(skin), cutoff_(diameter + skin) {
   if (!(skin > 0)) throw std::invalid_argument("neighbour skin must be > 0");
   reach_ = 0;
@@ -24,7 +24,8 @@ NeighborList::NeighborList(const std::vector<Vec3>& offsets, double diameter, do
   // A sphere diameter of margin: a grain crosses half of it in thousands of steps under the platens,
   // and it adds no new neighbours to a face-to-face packing (the next shell is ~2 d further out).
   margin_ = std::max(diameter, 2 * skin);
-  grid_ = TemplateGrid(offsets_, cutoff_);
+  // A scaled grain a is searched in its template's frame, with the cutoff over its scale.
+  grid_ = TemplateGrid(offsets_, cutoff_ / min_scale);
   for (const Vec3& o : offsets_) offset_x_.push_back(o.x()), offset_y_.push_back(o.y()), offset_z_.push_back(o.z());
 }
 
@@ -209,12 +210,25 @@ void NeighborList::search_and_merge(const Bodies& bodies) {
       double h_a = -1e300;
 #pragma omp simd reduction(max : h_a)
       for (std::size_t i = 0; i < n_spheres; ++i) h_a = std::max(h_a, u.x() * ox[i] + u.y() * oy[i] + u.z() * oz[i]);
-      // Without a direction (coincident centres) every sphere is looked up.
-      const double limit = dist > 0 ? h_a + cutoff_ - dist : 1e300;
-      for (std::size_t j = 0; j < n_spheres; ++j) {
-        if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
-        const Vec3 pj = r_ab * offsets_[j] + t_ab;
-        grid_.for_each_near(pj, cutoff_, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+      const double sa = bodies.scale[gp.a], sb = bodies.scale[gp.b];
+      if (sa == 1 && sb == 1) {
+        // Without a direction (coincident centres) every sphere is looked up.
+        const double limit = dist > 0 ? h_a + cutoff_ - dist : 1e300;
+        for (std::size_t j = 0; j < n_spheres; ++j) {
+          if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
+          const Vec3 pj = r_ab * offsets_[j] + t_ab;
+          grid_.for_each_near(pj, cutoff_, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+        }
+      } else {
+        // Scaled grains: a's spheres at sa o_i, b's at sb R_ab o_j + t_ab, candidates within r (sa + sb) + skin;
+        // looked up in a's template frame (divided by sa).
+        const double cutoff = radius_ * (sa + sb) + skin_;
+        const double limit = dist > 0 ? (sa * h_a + cutoff - dist) / sb : 1e300;
+        for (std::size_t j = 0; j < n_spheres; ++j) {
+          if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
+          const Vec3 pj = (sb * (r_ab * offsets_[j]) + t_ab) / sa;
+          grid_.for_each_near(pj, cutoff / sa, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+        }
       }
       std::sort(out.begin() + begin, out.end());
       gp.count = std::uint32_t(out.size() - begin);

@@ -69,8 +69,9 @@ struct NeighborUpdate {
 
 class NeighborList {
  public:
-  /// `offsets`: template body-frame sphere centres; `diameter` of every sphere; `skin` (m).
-  NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin);
+  /// `offsets`: template body-frame sphere centres; `diameter` of every sphere; `skin` (m); `min_scale`:
+  /// the smallest Bodies::scale to expect (grains are never larger than the template).
+  NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin, double min_scale = 1);
 
   /// Brings the candidates up to date with the bodies' poses and the walls (call before every force
   /// evaluation); cheap when nothing has drifted.

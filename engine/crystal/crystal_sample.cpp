@@ -9,8 +9,10 @@ namespace granulab {
 
 namespace {
 
-WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate& grain) {
+WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate& grain,
+                               const std::vector<GrainImperfection>& imperfections = {}) {
   WorldSettings s;
+  for (const GrainImperfection& g : imperfections) s.min_scale = std::min(s.min_scale, g.scale);
   s.time_step = p.time_step_factor *
                 contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
   s.skin = p.skin_factor * grain.diameter();
@@ -52,7 +54,8 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
     : params_(params),
       grain_(params.grain),
       lattice_(build_crystal(lattice_geometry(params))),
-      world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_)),
+      imperfections_(draw_imperfections(params.imperfections, lattice_, grain_)),
+      world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_, imperfections_)),
       membrane_(params.confining_pressure, grain_.diameter() / 2, params.bridge_span * params.grain.size,
                 params.bridge_depth * params.grain.size) {
   if (params.grain.shape != Shape::rhombic_dodecahedron)
@@ -61,8 +64,10 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
     throw std::invalid_argument("confining pressure too high for the modulus");
   if (lattice_.sites.size() < 2) throw std::invalid_argument("the crystal has fewer than two grains left");
   const double density = params.material.density * params.mass_scaling;
-  for (const LatticeSite& s : lattice_.sites) {
-    const BodyId b = world_.add_grain(s.position, lattice_.orientation, density);
+  for (std::size_t k = 0; k < lattice_.sites.size(); ++k) {
+    const LatticeSite& s = lattice_.sites[k];
+    const GrainImperfection& g = imperfections_[k];
+    const BodyId b = world_.add_grain(s.position, lattice_.orientation * g.rotation, density, Motion::dynamic, g.scale);
     ids_.push_back(s.id);
     if (s.column == 0) side_[0].push_back(b);
     if (s.column == params.grains_x - 1) side_[1].push_back(b);

@@ -10,6 +10,7 @@
 
 #include "engine/boundary/membrane.h"
 #include "engine/crystal/crystal_lattice.h"
+#include "engine/crystal/imperfections.h"
 #include "engine/experiments/workload.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
@@ -39,6 +40,7 @@ struct CrystalSampleParams {
   double bridge_span = 1.5;          ///< the bag spans holes: see Membrane; in grain sizes a (-)
   double bridge_depth = 0.3;         ///< in grain sizes a (-); layers are a/sqrt3 = 0.577 a apart along y
   int membrane_interval = 200;       ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
+  ImperfectionParams imperfections;  ///< smaller and tilted grains (imperfections.h); none by default
   // Confinement (confinement.h).
   double equilibrium_tolerance = 0.01;  ///< |wall stress - p0| / p0 (-)
   double kinetic_tolerance = 1e-4;      ///< kinetic / elastic energy (-)
@@ -75,6 +77,8 @@ class CrystalSample {
   const World& world() const { return world_; }
   const GrainTemplate& grain() const { return grain_; }
   const CrystalLattice& lattice() const { return lattice_; }
+  /// Each grain's size factor and tilt, in body order (all perfect without imperfections).
+  const std::vector<GrainImperfection>& imperfections() const { return imperfections_; }
   /// The stable grain id of each body.
   const std::vector<GrainId>& grain_ids() const { return ids_; }
   const MembraneStats& membrane_stats() const { return membrane_.stats(); }
@@ -119,6 +123,7 @@ class CrystalSample {
   CrystalSampleParams params_;
   GrainTemplate grain_;
   CrystalLattice lattice_;
+  std::vector<GrainImperfection> imperfections_;  // per site
   World world_;
   Membrane membrane_;
   FixedForces fixed_;

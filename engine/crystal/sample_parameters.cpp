@@ -32,6 +32,17 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   }
   v.end_list();
 
+  v.section("imperfections");
+  ImperfectionParams& im = p.imperfections;
+  v.number("size_dispersion", im.size_dispersion, {0, 0.05}, "-",
+           "sigma_s: each grain's size is a (1 - sigma_s |z|), z standard normal: never larger than its lattice site "
+           "(docs/model.md, \"Imperfect grains\")");
+  v.number("misorientation", im.misorientation, {0, 5}, "deg",
+           "sigma_r: each grain is turned about a random axis by an rms angle sigma_r, then shrunk to fit its site");
+  int seed = int(im.seed);
+  v.integer("seed", seed, 0, 2147483647, "the draw: the same seed gives the same grains");
+  im.seed = std::uint64_t(seed);
+
   v.section("loading");
   v.number("confining_pressure", p.confining_pressure, {0, 1e8, true}, "Pa", "p0, the vacuum bag's pressure");
   v.number("mass_scaling", p.mass_scaling, {1, 1e8}, "-", "density factor");

@@ -25,10 +25,13 @@ struct Bodies {
   std::vector<double> mass;            ///< kg
   std::vector<Vec3> inertia;           ///< principal moments (kg m^2)
   std::vector<Motion> motion;
+  /// Size of each body's sphere clump over its template's (-): offsets and radii scale with it (1 for
+  /// every body but the imperfect grains of a crystal).
+  std::vector<double> scale;
 
   std::size_t size() const { return position.size(); }
 
-  BodyId add(const Vec3& x, const Quat& q, double m, const Vec3& principal_inertia, Motion mo) {
+  BodyId add(const Vec3& x, const Quat& q, double m, const Vec3& principal_inertia, Motion mo, double s = 1) {
     position.push_back(x);
     orientation.push_back(q.normalized());
     velocity.push_back(Vec3::Zero());
@@ -39,6 +42,7 @@ struct Bodies {
     mass.push_back(m);
     inertia.push_back(principal_inertia);
     motion.push_back(mo);
+    scale.push_back(s);
     return BodyId(position.size() - 1);
   }
 

@@ -1,4 +1,4 @@
-// The simulation world: identical rigid grains (one shared template), plane walls, and the time step
+// The simulation world: rigid grains of one shared template (each possibly scaled), plane walls, and the time step
 // as a short list of named, timed stages (docs/architecture.md):
 //   kick/drift -> move walls -> search the candidates of the grain pairs whose relative pose drifted by
 //   a skin (NeighborList::update) -> sphere contact forces -> wall forces -> kick.
@@ -23,6 +23,7 @@ struct WorldSettings {
   double time_step = 0;           ///< s
   double skin = 0;                ///< neighbour-list skin (m)
   Vec3 gravity = Vec3::Zero();    ///< m/s^2
+  double min_scale = 1;           ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
 };
 
 
@@ -38,8 +39,9 @@ class World {
  public:
   World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings);
 
-  /// Adds a grain of the shared template at pose (x, q); mass and inertia from density (kg/m^3).
-  BodyId add_grain(const Vec3& x, const Quat& q, double density, Motion motion = Motion::dynamic);
+  /// Adds a grain of the shared template at pose (x, q); mass and inertia from density (kg/m^3). `scale`
+  /// (in [settings().min_scale, 1]) sizes its clump: offsets and sphere radii times scale.
+  BodyId add_grain(const Vec3& x, const Quat& q, double density, Motion motion = Motion::dynamic, double scale = 1);
   std::size_t add_wall(const Wall& wall);
 
   const GrainTemplate& grain() const { return grain_; }
@@ -113,7 +115,7 @@ class World {
   std::vector<double> pair_overlap_, pair_energy_;
   std::vector<double> overlap_sum_;
   std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
-  std::vector<Mat3> rotation_;  // body -> world rotation of each body, for the contact stage
+  std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
   // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
   // centre (N m), and whether it touched.
   std::vector<Vec3> wall_force_, wall_torque_;

@@ -158,6 +158,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["loading"]["wall_friction"] = 0.35;  // an extension: the platens' f, by default the grains'
   expected["loading"]["confinement"] = "membrane";    // extensions: the bag, and no loading program
   expected["loading"]["program"] = json::array();
+  expected["imperfections"] = {{"size_dispersion", 0.0}, {"misorientation", 0.0}, {"seed", 1}};  // perfect grains
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
   json got = spec.normalized;
   // Engine knobs that are not in the contract example.
