@@ -20,6 +20,22 @@ double branch_secant(const std::vector<double>& strain, const std::vector<double
   return kNaN;
 }
 
+double branch_secant_between(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
+                             std::size_t last, double change, double f0, double f1) {
+  if (!(std::abs(change) > 0)) return kNaN;
+  std::size_t k0 = 0, k1 = 0;
+  for (std::size_t k = from + 1; k <= last && k < strain.size(); ++k) {
+    const double f = (deviator[k] - deviator[from]) / change;
+    if (!k0 && f >= f0) k0 = k;
+    if (f >= f1) {
+      k1 = k;
+      break;
+    }
+  }
+  if (!k0 || !k1 || strain[k1] == strain[k0]) return kNaN;
+  return (deviator[k1] - deviator[k0]) / (strain[k1] - strain[k0]);
+}
+
 std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, const std::vector<double>& deviator,
                                          const std::vector<CurveSegment>& segments) {
   std::vector<LoadingCycle> cycles;
@@ -41,12 +57,16 @@ std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, cons
     c.residual_strain = strain[down.last_row], c.residual_deviator = deviator[down.last_row];
     c.loading_slope = branch_secant(strain, deviator, up.first_row, up.last_row, c.peak_deviator - deviator[up.first_row]);
     c.unloading_slope = branch_secant(strain, deviator, down.first_row, down.last_row, c.residual_deviator - c.peak_deviator);
-    c.reloading_slope = c.dissipated_energy = kNaN;
+    c.unloading_slope_end = branch_secant_between(strain, deviator, down.first_row, down.last_row,
+                                                  c.residual_deviator - c.peak_deviator, 0.8, 1.0);
+    c.reloading_slope = c.reloading_slope_end = c.dissipated_energy = kNaN;
     const std::size_t r = moving(u, +1);
     if (r != std::size_t(-1) && segments[r].direction > 0 && segments[r].last_row < strain.size()) {
       const CurveSegment& again = segments[r];
       c.reloading_slope = branch_secant(strain, deviator, again.first_row, again.last_row,
                                         c.peak_deviator - deviator[again.first_row]);
+      c.reloading_slope_end = branch_secant_between(strain, deviator, again.first_row, again.last_row,
+                                                    c.peak_deviator - deviator[again.first_row], 0.8, 1.0);
       // Trapezoids down the unloading (rows between it and the reloading hold the strain: they add
       // nothing), then up the reloading until it passes the peak strain, the last one cut there.
       double area = 0;

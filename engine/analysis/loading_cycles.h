@@ -26,6 +26,9 @@ struct LoadingCycle {
   double loading_slope = 0;    ///< the loading before the peak, over 20 % of its rise to the peak
   double unloading_slope = 0;  ///< the unloading, over 20 % of its drop
   double reloading_slope = 0;  ///< the next loading, over 20 % of its rise back to the peak deviator; NaN without one
+  /// ... and over the last 20 % (from 80 % to all of the change; NaN if the branch does not get there):
+  double unloading_slope_end = 0;  ///< the unloading's tail, where it reaches its residual deviator
+  double reloading_slope_end = 0;  ///< the reloading where it comes back to the peak deviator
   /// The loop's area, the integral of deviator d(strain) down the unloading and back up the reloading
   /// to the peak strain (J/m^3): the work per unit volume the crystal dissipated over the cycle. NaN
   /// when no reloading reaches the peak strain.
@@ -36,6 +39,11 @@ struct LoadingCycle {
 /// `fraction` of `change` (signed: the way the branch goes); NaN if no row gets there with a strain change.
 double branch_secant(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
                      std::size_t last, double change, double fraction = 0.2);
+
+/// The secant (Pa) between the first rows, from `from` up to `last`, at which the deviator has changed by
+/// `f0` and by `f1` of `change`; NaN if it gets to neither with a strain change.
+double branch_secant_between(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
+                             std::size_t last, double change, double f0, double f1);
 
 std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, const std::vector<double>& deviator,
                                          const std::vector<CurveSegment>& segments);

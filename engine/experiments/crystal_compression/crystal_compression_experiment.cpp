@@ -100,6 +100,8 @@ struct CrystalSummary : ExperimentResult {
       finite("loading_slope", c.loading_slope, "Pa");
       finite("unloading_slope", c.unloading_slope, "Pa");
       finite("reloading_slope", c.reloading_slope, "Pa");
+      finite("unloading_slope_end", c.unloading_slope_end, "Pa");
+      finite("reloading_slope_end", c.reloading_slope_end, "Pa");
       finite("dissipated_energy", c.dissipated_energy, "J/m^3");
       w.end_group();
     }

@@ -35,6 +35,8 @@ TEST(LoadingCycles, SlopesResidualAndLoopAreaOfAParallelogram) {
   EXPECT_NEAR(c.loading_slope, 100, 1e-9);
   EXPECT_NEAR(c.unloading_slope, 250, 1e-9);
   EXPECT_NEAR(c.reloading_slope, 500, 1e-9);
+  EXPECT_NEAR(c.unloading_slope_end, 250, 1e-9);  // straight branches: the same at both ends
+  EXPECT_NEAR(c.reloading_slope_end, 500, 1e-9);
   // The loop lies between the reloading line s = 500 (e - 0.006) above and the unloading line
   // s = 250 (e - 0.006) below, from e = 0.006 to 0.01: a triangle of base 0.004 and height 2 - 1.
   EXPECT_NEAR(c.dissipated_energy, 0.5 * 0.004 * 1, 1e-12);
