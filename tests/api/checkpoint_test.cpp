@@ -56,48 +56,64 @@ std::string snapshots_text(const MemorySink& s) {
   return out;
 }
 
+// Interrupts a run of `text` at several checkpoints and resumes it: the same curve, snapshots and results.
+void expect_resumes_bit_identical(const std::string& text) {
+  const Spec spec = parse_spec_text(text);
+  DyingSink whole(0, 0);
+  run(spec, whole);
+  const int safe_points = whole.taken_;
+  ASSERT_GE(safe_points, 4);
+  if (whole.summary_.contains("compression_steps"))  // the last interruption falls in the compression
+    ASSERT_GE(whole.summary_.at("compression_steps").get<double>(), 300);
+  // Die after the first, a middle and the last checkpoint, each time a few safe points later; resume
+  // (twice in a row for the middle one: a resumed run is itself interrupted and resumed).
+  for (const int die_after : {1, safe_points / 2, std::max(2, safe_points - 150), safe_points - 2}) {
+    SCOPED_TRACE("died after checkpoint " + std::to_string(die_after) + " of " + std::to_string(safe_points));
+    DyingSink first(die_after, 1);
+    EXPECT_THROW(run(spec, first), Died);
+    ASSERT_TRUE(first.last);
+    Resume from = *first.last;
+    DyingSink resumed(die_after == safe_points / 2 ? 1 : 0, 1);
+    resumed.curve_csv_ = first.curve_csv_;  // what the interrupted run left, rows past the checkpoint included
+    resumed.snapshots_ = first.snapshots_;
+    if (die_after == safe_points / 2) {
+      EXPECT_THROW(run(spec, resumed, &from), Died);
+      from = *resumed.last;
+      DyingSink again(0, 0);
+      again.curve_csv_ = resumed.curve_csv_;
+      again.snapshots_ = resumed.snapshots_;
+      run(spec, again, &from);
+      EXPECT_EQ(again.curve_csv_, whole.curve_csv_);
+      EXPECT_EQ(snapshots_text(again), snapshots_text(whole));
+      EXPECT_EQ(again.summary_.at("steps"), whole.summary_.at("steps"));
+      continue;
+    }
+    run(spec, resumed, &from);
+    EXPECT_EQ(resumed.curve_csv_, whole.curve_csv_);
+    EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
+    EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
+    for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces"})
+      if (whole.summary_.contains(key)) EXPECT_EQ(resumed.summary_.at(key), whole.summary_.at(key)) << key;
+  }
+}
+
 TEST(Checkpoints, ResumedRunsAreBitIdenticalToUninterruptedOnes) {
   for (const ExperimentType& t : experiment_types()) {
     SCOPED_TRACE(t.name);
     ASSERT_TRUE(kSpecs.count(t.name)) << "add a short spec for the new experiment here";
-    const Spec spec = parse_spec_text(kSpecs.at(t.name));
-    DyingSink whole(0, 0);
-    run(spec, whole);
-    const int safe_points = whole.taken_;
-    ASSERT_GE(safe_points, 4);
-    if (whole.summary_.contains("compression_steps"))  // the last interruption falls in the compression
-      ASSERT_GE(whole.summary_.at("compression_steps").get<double>(), 300);
-    // Die after the first, a middle and the last checkpoint, each time a few safe points later; resume
-    // (twice in a row for the middle one: a resumed run is itself interrupted and resumed).
-    for (const int die_after : {1, safe_points / 2, std::max(2, safe_points - 150), safe_points - 2}) {
-      SCOPED_TRACE("died after checkpoint " + std::to_string(die_after) + " of " + std::to_string(safe_points));
-      DyingSink first(die_after, 1);
-      EXPECT_THROW(run(spec, first), Died);
-      ASSERT_TRUE(first.last);
-      Resume from = *first.last;
-      DyingSink resumed(die_after == safe_points / 2 ? 1 : 0, 1);
-      resumed.curve_csv_ = first.curve_csv_;  // what the interrupted run left, rows past the checkpoint included
-      resumed.snapshots_ = first.snapshots_;
-      if (die_after == safe_points / 2) {
-        EXPECT_THROW(run(spec, resumed, &from), Died);
-        from = *resumed.last;
-        DyingSink again(0, 0);
-        again.curve_csv_ = resumed.curve_csv_;
-        again.snapshots_ = resumed.snapshots_;
-        run(spec, again, &from);
-        EXPECT_EQ(again.curve_csv_, whole.curve_csv_);
-        EXPECT_EQ(snapshots_text(again), snapshots_text(whole));
-        EXPECT_EQ(again.summary_.at("steps"), whole.summary_.at("steps"));
-        continue;
-      }
-      run(spec, resumed, &from);
-      EXPECT_EQ(resumed.curve_csv_, whole.curve_csv_);
-      EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
-      EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
-      if (whole.summary_.contains("first_yield"))
-        EXPECT_EQ(resumed.summary_.at("first_yield"), whole.summary_.at("first_yield"));
-    }
+    expect_resumes_bit_identical(kSpecs.at(t.name));
   }
+}
+
+// A loading program (release to a deviator, a hold, a reload), fixed confining forces and imperfect grains:
+// the segment under way, the fixed forces and the grains' sizes all come back from a checkpoint.
+TEST(Checkpoints, AProgramWithFixedForcesAndImperfectGrainsResumesBitIdentical) {
+  expect_resumes_bit_identical(R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
+      "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
+      "imperfections": {"size_dispersion": 0.002, "misorientation": 0.5, "seed": 3},
+      "loading": {"confining_pressure": 30e3, "max_strain": 2e-3, "rate_number": 2e-5, "confinement": "fixed_forces",
+        "program": [{"to_strain": 1.5e-3}, {"to_deviator": 0}, {"hold_steps": 200}, {"to_strain": 2e-3}]},
+      "output": {"curve_points": 12, "snapshot_strains": [0, 1e-3, 2e-3]}})");
 }
 
 TEST(Checkpoints, AnotherSpecsOrADamagedCheckpointIsRefused) {
