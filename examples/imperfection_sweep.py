@@ -3,7 +3,7 @@
 
 usage: python3 examples/imperfection_sweep.py [--out DIR] [--threads N] [--reuse] [--binary build/granulab]
 
-Runs examples/imperfections_ne4.json (the reference crystal at N_e = 4, 60 kPa, to 1 %) with `build/granulab run`
+Runs examples/imperfections_ne4.json (the reference crystal at N_e = 4, 60 kPa, to 2 %) with `build/granulab run`
 once perfect, then for each size_dispersion and each misorientation below (the other left at 0), into
 DIR/<name>/, and prints (and writes DIR/imperfections.csv) per run: the apparent modulus (the secant
 deviator / strain at the first row past 0.05 % strain), the first yield (summary's first_yield) and both over the

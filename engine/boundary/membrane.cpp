@@ -20,7 +20,8 @@ Membrane::Membrane(double pressure, double cell, double bridge_span, double brid
     : pressure_(pressure), cell_(cell), bridge_span_(bridge_span), bridge_depth_(bridge_depth) {}
 
 void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres, std::size_t per_body,
-                     double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque) {
+                     double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque,
+                     const std::vector<double>* scale) {
   std::fill(force.begin(), force.end(), Vec3::Zero());
   std::fill(torque.begin(), torque.end(), Vec3::Zero());
   stats_ = MembraneStats{};
@@ -31,7 +32,7 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   // The two faces normal to one axis share a map over the same plane (one scan gives both outermost
   // spheres); the x pair and the y pair run on separate threads into their own buffers.
 #pragma omp parallel for schedule(static, 1) num_threads(std::min(2, omp_get_max_threads()))
-  for (int axis = 0; axis < 2; ++axis) map_axis(axis, lo, hi, body_positions, spheres, per_body, radius, scratch_[axis]);
+  for (int axis = 0; axis < 2; ++axis) map_axis(axis, lo, hi, body_positions, spheres, per_body, radius, scale, scratch_[axis]);
 
   std::vector<bool> touched(body_positions.size(), false);
   for (int axis = 0; axis < 2; ++axis) {
@@ -70,18 +71,20 @@ void Membrane::bounds(const std::vector<Vec3>& spheres, double radius, Vec3& lo,
 }
 
 std::pair<double, double> Membrane::end_forces(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres,
-                                               std::size_t per_body, double radius, std::vector<Vec3>& force) const {
+                                               std::size_t per_body, double radius, std::vector<Vec3>& force,
+                                               const std::vector<double>* scale) const {
   if (spheres.empty()) return {0, 0};
   Vec3 lo, hi;
   bounds(spheres, radius, lo, hi);
   AxisScratch a;
-  map_axis(2, lo, hi, body_positions, spheres, per_body, radius, a);
+  map_axis(2, lo, hi, body_positions, spheres, per_body, radius, scale, a);
   for (std::size_t b = 0; b < body_positions.size(); ++b) force[b] += a.force[b];
   return {a.area[0], a.area[1]};
 }
 
 void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
-                        const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const {
+                        const std::vector<Vec3>& spheres, std::size_t per_body, double radius,
+                        const std::vector<double>* scale, AxisScratch& a) const {
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   const double cell_area = cell_ * cell_;
   const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;  // the map's in-plane axes
@@ -100,12 +103,13 @@ void Membrane::map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vec
   const int reach = int(std::ceil(radius / cell_));
   for (std::size_t s = 0; s < spheres.size(); ++s) {
     const Vec3& c = spheres[s];
+    const double r = scale ? radius * (*scale)[s / per_body] : radius;  // scales are at most 1: within `reach`
     const int iu0 = int((c[u] - lo[u]) / cell_), iv0 = int((c[v] - lo[v]) / cell_);
     for (int iu = std::max(0, iu0 - reach); iu <= std::min(nu - 1, iu0 + reach); ++iu) {
       const double du = lo[u] + (iu + 0.5) * cell_ - c[u];
       for (int iv = std::max(0, iv0 - reach); iv <= std::min(nv - 1, iv0 + reach); ++iv) {
         const double dv = lo[v] + (iv + 0.5) * cell_ - c[v];
-        const double r2 = radius * radius - du * du - dv * dv;
+        const double r2 = r * r - du * du - dv * dv;
         if (r2 < 0) continue;
         const double cap = std::sqrt(r2);
         const std::size_t k = std::size_t(iu) * nv + iv;

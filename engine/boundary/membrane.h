@@ -41,15 +41,18 @@ class Membrane {
   Membrane(double pressure, double cell, double bridge_span = 0, double bridge_depth = 0);
 
   /// Recomputes the per-body forces and torques (overwriting `force`, `torque`) from the sphere
-  /// centres (body-major, `per_body` spheres of radius `radius` each) and body centres.
+  /// centres (body-major, `per_body` spheres of radius `radius` each, times the body's `scale` if given:
+  /// imperfect grains) and body centres.
   void apply(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres, std::size_t per_body,
-             double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque);
+             double radius, std::vector<Vec3>& force, std::vector<Vec3>& torque,
+             const std::vector<double>* scale = nullptr);
 
   /// The same load on the two end faces (+z, -z), as if the bag were wrapped over them too: p0 x each
   /// grain's projected area along the inward face normal, added into `force` (applied at the grain's
   /// centre: no torque). Returns the faces' projected areas {+z, -z} (m^2). For fixed confining forces.
   std::pair<double, double> end_forces(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres,
-                                       std::size_t per_body, double radius, std::vector<Vec3>& force) const;
+                                       std::size_t per_body, double radius, std::vector<Vec3>& force,
+                                       const std::vector<double>* scale = nullptr) const;
 
   double pressure() const { return pressure_; }
   void set_pressure(double p) { pressure_ = p; }
@@ -74,7 +77,8 @@ class Membrane {
   void bounds(const std::vector<Vec3>& spheres, double radius, Vec3& lo, Vec3& hi) const;
   void local_envelope(const std::vector<double>& height, int nu, int nv, AxisScratch& a) const;
   void map_axis(int axis, const Vec3& lo, const Vec3& hi, const std::vector<Vec3>& body_positions,
-                const std::vector<Vec3>& spheres, std::size_t per_body, double radius, AxisScratch& a) const;
+                const std::vector<Vec3>& spheres, std::size_t per_body, double radius, const std::vector<double>* scale,
+                AxisScratch& a) const;
 
   double pressure_, cell_, bridge_span_, bridge_depth_;
   MembraneStats stats_;

@@ -15,6 +15,8 @@ WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate
   for (const GrainImperfection& g : imperfections) s.min_scale = std::min(s.min_scale, g.scale);
   s.time_step = p.time_step_factor *
                 contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
+  // A smaller grain has the same contact stiffness and less mass: its contact time goes as scale^1.5.
+  if (s.min_scale < 1) s.time_step *= std::pow(s.min_scale, 1.5);
   s.skin = p.skin_factor * grain.diameter();
   return s;
 }
@@ -39,7 +41,11 @@ Workload confinement_workload(const CrystalSampleParams& p) {
   return w;
 }
 
-double crystal_time_step(const CrystalSampleParams& p) { return crystal_settings(p, GrainTemplate(p.grain)).time_step; }
+double crystal_time_step(const CrystalSampleParams& p) {
+  const GrainTemplate grain(p.grain);
+  // Imperfect grains: the time step of the smallest grain there may be (an estimate's upper bound of steps).
+  return crystal_settings(p, grain, {GrainImperfection{min_scale_bound(p.imperfections, grain), Quat::Identity()}}).time_step;
+}
 
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
   return std::sqrt(2.0) * confining_pressure / youngs_modulus;
@@ -77,8 +83,12 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
   // Walls just touching the outermost sphere surfaces of the end rows.
   world_.compute_forces();
   double lo = 1e300, hi = -1e300;
-  for (const Vec3& x : world_.sphere_positions()) lo = std::min(lo, x.z()), hi = std::max(hi, x.z());
-  Wall top{Vec3(0, 0, hi + grain_.radius()), -Vec3::UnitZ()}, bottom{Vec3(0, 0, lo - grain_.radius()), Vec3::UnitZ()};
+  const std::vector<Vec3>& spheres = world_.sphere_positions();
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    const double r = sphere_radius(i);
+    lo = std::min(lo, spheres[i].z() - r), hi = std::max(hi, spheres[i].z() + r);
+  }
+  Wall top{Vec3(0, 0, hi), -Vec3::UnitZ()}, bottom{Vec3(0, 0, lo), Vec3::UnitZ()};
   top.friction = bottom.friction = params.wall_friction;
   top_ = world_.add_wall(top);
   bottom_ = world_.add_wall(bottom);
@@ -94,7 +104,7 @@ void CrystalSample::update_membrane() {
   const std::vector<Vec3>& spheres = world_.sphere_positions();  // timed as the world's own stage
   StageTimer t(world_.stage_times().membrane);
   membrane_.apply(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), world_.external_force(),
-                  world_.external_torque());
+                  world_.external_torque(), scales());
 }
 
 void CrystalSample::fix_confining_forces() {
@@ -104,7 +114,7 @@ void CrystalSample::fix_confining_forces() {
   const std::vector<Vec3>& spheres = world_.sphere_positions();
   std::vector<Vec3> ends(force.size(), Vec3::Zero());
   const auto [top_area, bottom_area] =
-      membrane_.end_forces(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), ends);
+      membrane_.end_forces(world_.bodies().position, spheres, grain_.sphere_count(), grain_.radius(), ends, scales());
   const MembraneStats& m = membrane_.stats();
   for (int k = 0; k < 4; ++k) fixed_.area[k] = m.area[k], fixed_.load[k] = membrane_.pressure() * m.area[k];
   fixed_.area[4] = top_area, fixed_.area[5] = bottom_area;
@@ -112,8 +122,10 @@ void CrystalSample::fix_confining_forces() {
   // tolerance), shared among the end grains by projected area: the axial stress is the same before and
   // after. (A jagged end's projected area is larger than the cross-section stresses are divided by, by
   // the grains' overhang at its rim: 24 % on a 4 x 3 end.)
-  fixed_.load[4] = -world_.walls()[top_].force.dot(world_.walls()[top_].normal);
-  fixed_.load[5] = -world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal);
+  // The mean of the two platens' loads on both ends (they differ by the servo's tolerance): fixed forces
+  // with a net axial force would push the sample along once a platen lets go.
+  fixed_.load[4] = fixed_.load[5] = -(world_.walls()[top_].force.dot(world_.walls()[top_].normal) +
+                                      world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal)) / 2;
   const double top_scale = top_area > 0 ? fixed_.load[4] / (membrane_.pressure() * top_area) : 0;
   const double bottom_scale = bottom_area > 0 ? fixed_.load[5] / (membrane_.pressure() * bottom_area) : 0;
   for (std::size_t b = 0; b < force.size(); ++b) {
@@ -129,7 +141,8 @@ void CrystalSample::fix_confining_forces() {
   for (std::size_t w : {top_, bottom_}) {
     Wall& wall = world_.walls()[w];
     double deepest = 0;
-    for (const Vec3& x : spheres) deepest = std::max(deepest, grain_.radius() - (x - wall.point).dot(wall.normal));
+    for (std::size_t i = 0; i < spheres.size(); ++i)
+      deepest = std::max(deepest, sphere_radius(i) - (spheres[i] - wall.point).dot(wall.normal));
     wall.point -= deepest * wall.normal;
   }
   fixed_.on = true;

@@ -19,7 +19,7 @@ namespace granulab {
 
 /// Fixed confining forces (CrystalSample::fix_confining_forces): per face +x, -x, +y, -y, +z, -z, the
 /// projected area of its grains (m^2) and the sum of their forces along the face's inward normal (N):
-/// p0 x area on the lateral faces, the platens' load when they were fixed on the ends.
+/// p0 x area on the lateral faces, on each end the mean of the platens' loads when they were fixed.
 struct FixedForces {
   bool on = false;
   double area[6] = {0, 0, 0, 0, 0, 0};
@@ -54,7 +54,7 @@ double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
 
 /// The sample's size and the confinement's step cap (knock-outs and an early equilibrium only lower them).
 Workload confinement_workload(const CrystalSampleParams& p);
-/// dt (s) of the sample's world.
+/// dt (s) of the sample's world; with imperfect grains, of the smallest one they may draw (min_scale_bound).
 double crystal_time_step(const CrystalSampleParams& p);
 
 /// The default neighbour skin / d of a dense crystal (docs/model.md, "Time integration"). Only the
@@ -106,11 +106,15 @@ class CrystalSample {
   /// Replaces the bag by fixed forces, as the paper's LAMMPS scripts confined the crystal: each surface
   /// grain gets, once, p0 x its projected area along the inward normal of each lateral face it lies on,
   /// at its centre, from the sample as it is (confined); the end grains share the platens' present load
-  /// in proportion to their projected areas on the ends, and the platens step back to bare contact. These
+  /// (the mean of the two) in proportion to their projected areas on the ends, and the platens step back to bare contact. These
   /// forces then stay as they are, whatever the grains do; the platens carry the deviator alone, and
   /// axial_stress() counts both. Call on a sample at rest, right before it is loaded.
   void fix_confining_forces();
   const FixedForces& fixed_forces() const { return fixed_; }
+  /// Radius of sphere i (body-major index) (m): the template's times its grain's scale.
+  double sphere_radius(std::size_t i) const {
+    return grain_.radius() * world_.bodies().scale[i / grain_.sphere_count()];
+  }
   /// The axial stress on the face at a platen (Pa): wall_stress() plus the fixed forces on that end.
   double axial_stress(std::size_t wall) const;
   /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
@@ -120,6 +124,10 @@ class CrystalSample {
   void restore(CheckpointReader& r);
 
  private:
+  /// The bodies' scales for the bag's height maps, when some grain is not the template's size.
+  const std::vector<double>* scales() const {
+    return params_.imperfections.any() ? &world_.bodies().scale : nullptr;
+  }
   CrystalSampleParams params_;
   GrainTemplate grain_;
   CrystalLattice lattice_;

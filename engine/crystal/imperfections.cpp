@@ -43,6 +43,15 @@ double fit_scale(const GrainTemplate& grain, const Quat& rotation) {
   return scale;
 }
 
+double min_scale_bound(const ImperfectionParams& p, const GrainTemplate& grain) {
+  if (!p.any()) return 1;
+  double h0 = 1e300, reach = 0;
+  for (const Face& f : grain.solid().faces()) h0 = std::min(h0, support(grain.offsets(), grain.radius(), f.normal));
+  for (const Vec3& o : grain.offsets()) reach = std::max(reach, o.norm());
+  const double theta = 4 * p.misorientation * M_PI / 180;
+  return std::max(0.5, 1 - 5 * p.size_dispersion) * h0 / (h0 + reach * theta);
+}
+
 std::vector<GrainImperfection> draw_imperfections(const ImperfectionParams& p, const CrystalLattice& lattice,
                                                   const GrainTemplate& grain) {
   std::vector<GrainImperfection> out(lattice.sites.size());

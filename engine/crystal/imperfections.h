@@ -36,6 +36,12 @@ struct GrainImperfection {
 std::vector<GrainImperfection> draw_imperfections(const ImperfectionParams& p, const CrystalLattice& lattice,
                                                   const GrainTemplate& grain);
 
+/// A lower bound of the smallest scale draw_imperfections() gives for `p` (without drawing): the size
+/// factor at 5 sigma_s, times the fit of a grain turned by 4 sigma_r (the largest rms-sigma_r angle among
+/// 50,000 grains is about 3 sigma_r), from the bound h0 / (h0 + R theta) on fit_scale (h0: the smallest
+/// face support, R: the farthest sphere centre). For cost estimates.
+double min_scale_bound(const ImperfectionParams& p, const GrainTemplate& grain);
+
 /// The largest factor (<= 1) by which a grain turned by `rotation` in its body frame must be scaled to fit
 /// inside the upright grain's face planes.
 double fit_scale(const GrainTemplate& grain, const Quat& rotation);

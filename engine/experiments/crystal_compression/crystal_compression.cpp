@@ -177,9 +177,9 @@ void CrystalCompression::restore(const std::string& checkpoint, Position& at, Cr
   in.finish();
 }
 
-double loading_steps(const CrystalParams& p, double length) {
+double loading_steps(const CrystalParams& p, double length, bool bound) {
   const double wave_speed = std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
-  const double travel = p.program.empty() ? p.max_strain : planned_travel(p.program);
+  const double travel = p.program.empty() ? p.max_strain : bound ? travel_bound(p.program) : planned_travel(p.program);
   const double moves = p.program.empty() ? 1 : double(p.program.size());
   // The platen's travel at R c, and about 5 wave transits per segment for its ramps.
   return (travel * length / (p.rate_number * wave_speed) + moves * 5 * length / wave_speed) / crystal_time_step(p) +
@@ -209,7 +209,8 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
   const double travel_per_row =
       (planned_travel(program) > 0 ? planned_travel(program) : params_.max_strain) / params_.curve_points;
   const double deviator_per_row = params_.confining_pressure / 20;
-  constexpr std::uint64_t kMinStepsPerRow = 10;  // bounds the rows of a noisy deviator
+  // Bounds on the rows of a noisy deviator: one per 10 steps, 2 x curve_points per segment.
+  constexpr std::uint64_t kMinStepsPerRow = 10, kDeviatorRowsPerPoint = 2;
   std::vector<double> targets = params_.snapshot_strains;
   std::sort(targets.begin(), targets.end());
   auto strain_now = [&] { return 1 - (top.point.z() - bottom.point.z()) / ref_length_; };
@@ -219,11 +220,10 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
       sink.snapshot(r.snapshots.size() - 1, r.snapshots.back());
     }
   };
-  std::uint64_t row_step = ~std::uint64_t(0);  // the step of the last row, when taken by this call
   auto record = [&](double strain) {
     r.curve.push_back(measure(strain));
     r.curve.back().segment = at.segment;
-    row_step = world.steps();
+    at.row_step = world.steps();
     sink.curve_row(r.curve.back().values());
   };
 
@@ -283,7 +283,9 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
           return current.direction > 0   ? strain_now() >= segment.value - eps
                  : current.direction < 0 ? strain_now() <= segment.value + eps
                                          : true;
-        case LoadSegment::Kind::to_deviator: return deviator() <= segment.value;
+        // ... or once the platen has let go: nothing is left to release (with fixed forces the deviator is
+        // the platens' own stress, which cannot fall below 0).
+        case LoadSegment::Kind::to_deviator: return deviator() <= segment.value || top.contacts == 0;
         case LoadSegment::Kind::hold: return world.steps() - at.segment_first >= segment.steps;
       }
       return true;
@@ -321,10 +323,14 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
         }
       } else {
         const double travel = at.segment_travel + std::abs(strain - at.segment_strain);
-        const bool row_due = travel >= at.row_travel + travel_per_row ||
-                             (std::abs(deviator() - r.curve.back().deviator) >= deviator_per_row &&
-                              world.steps() >= row_step + kMinStepsPerRow);  // row_step unknown after a resume: due
-        if (row_due) record(strain), at.row_travel = travel;
+        const bool travel_due = travel >= at.row_travel + travel_per_row;
+        const bool deviator_due = std::abs(deviator() - r.curve.back().deviator) >= deviator_per_row &&
+                                  world.steps() >= at.row_step + kMinStepsPerRow &&
+                                  at.segment_rows < kDeviatorRowsPerPoint * std::uint64_t(params_.curve_points);
+        if (travel_due || deviator_due) {
+          at.segment_rows += !travel_due;
+          record(strain), at.row_travel = travel;
+        }
         if (segment.kind == LoadSegment::Kind::to_deviator && strain < -0.05)
           throw std::runtime_error("loading.program[" + std::to_string(at.segment) + "]: the deviator was still " +
                                    std::to_string(deviator()) + " Pa, above the target " + std::to_string(segment.value) +
@@ -337,11 +343,13 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
       if (!sink.progress(share + (1 - share) * fraction)) throw Cancelled();
       if (!done()) safe_point();
     }
-    if (!monotonic && row_step != world.steps()) record(strain_now()), at.row_travel = at.segment_travel + std::abs(strain_now() - at.segment_strain);
+    if (!monotonic && at.row_step != world.steps())
+      record(strain_now()), at.row_travel = at.segment_travel + std::abs(strain_now() - at.segment_strain);
     current.last_row = r.curve.size() - 1;
     current.steps = world.steps() - at.segment_first;
     at.segment_travel += std::abs(strain_now() - at.segment_strain);
     at.segment_begun = false;
+    at.segment_rows = 0;
     ++at.segment;
   }
   sink.progress(1.0);

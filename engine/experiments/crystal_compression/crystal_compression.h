@@ -69,8 +69,9 @@ struct CrystalResult {
 /// strength of order p0.
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
 
-/// The expected time steps of the loading phase (after confinement) of a sample of `length` (m).
-double loading_steps(const CrystalParams& p, double length);
+/// The expected time steps of the loading phase (after confinement) of a sample of `length` (m); with
+/// `bound`, at most how many a program may take (travel_bound()).
+double loading_steps(const CrystalParams& p, double length, bool bound = false);
 
 /// The first yield peak of a crystal curve: once the deviator exceeds 0.1 p0, the largest deviator
 /// before it first falls `drop` (relative) below its running maximum. Returns {strain (-), deviator (Pa)};
@@ -112,6 +113,8 @@ class CrystalCompression {
     bool segment_begun = false;
     std::uint64_t segment_first = 0;
     double segment_strain = 0, segment_travel = 0, row_travel = 0;
+    std::uint64_t row_step = 0;          ///< world step of the last row
+    std::uint64_t segment_rows = 0;      ///< rows the deviator rule added in this segment
   };
   std::string checkpoint(const Position& at, const CrystalResult& r) const;
   void restore(const std::string& checkpoint, Position& at, CrystalResult& r);

@@ -134,7 +134,8 @@ void visit_program(ParameterVisitor& v, CrystalParams& p) {
     if (deviator) {
       segment.kind = LoadSegment::Kind::to_deviator;
       v.number("to_deviator", segment.value, {-1e8, 1e8}, "Pa",
-               "release the platen until the deviator falls to this value (above -p0, where the platens let go)");
+               "release the platen until the deviator falls to this value (above -p0), or until the platen lets go of "
+               "the crystal");
       v.require(segment.value > -p.confining_pressure, (path + ".to_deviator").c_str(),
                 "'" + path + ".to_deviator' must be above -p0 = " + std::to_string(-p.confining_pressure) +
                     " Pa: below it the platens have let go of the crystal");
@@ -170,6 +171,8 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
            "fixed in size and direction; the platens then carry the deviator alone (the stress columns count the "
            "ends back in)");
   p.fixed_forces = confinement == "fixed_forces";
+  v.require(!p.fixed_forces || p.rows_z >= 2, "loading.confinement",
+            "'loading.confinement' fixed_forces needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
   visit_program(v, p);
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000, "curve rows (a quarter of them over the first 2.5 % of the run)");
@@ -184,8 +187,8 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
 
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
-  // Loading: over a sample no longer than rows_z grain sizes.
-  w.steps += loading_steps(params, params.rows_z * params.grain.size);
+  // Loading: over a sample no longer than rows_z grain sizes; a program at its longest (budgets rely on it).
+  w.steps += loading_steps(params, params.rows_z * params.grain.size, true);
   return w;
 }
 

@@ -15,7 +15,7 @@
 namespace granulab {
 namespace {
 
-constexpr double kP0 = 30e3;
+constexpr double kP0 = 30e3;  // Pa
 
 CrystalParams small_crystal() {
   CrystalParams p;
@@ -183,6 +183,28 @@ TEST(FixedForces, TheBagFollowsTheSurfaceWhileFixedForcesDoNot) {
   EXPECT_NEAR(r.curve.front().deviator, 0, p.equilibrium_tolerance * kP0);
   EXPECT_NE(bag.world().external_force(), watch.force);
   EXPECT_FALSE(bag.sample().fixed_forces().on);
+}
+
+}  // namespace
+}  // namespace granulab
+
+namespace granulab {
+namespace {
+
+TEST(FixedForces, AReleaseToZeroDeviatorEndsWhenThePlatenLetsGo) {
+  // With fixed forces the deviator is the platens' own stress, which cannot fall below 0: the release ends
+  // when the top platen has let go (or the deviator reached 0), then the program goes on.
+  CrystalParams p = small_crystal();
+  p.fixed_forces = true;
+  p.program = {{Kind::to_strain, 0.002, 0}, {Kind::to_deviator, 0.0, 0}, {Kind::to_strain, 0.0025, 0}};
+  CrystalCompression experiment(p);
+  const CrystalResult r = experiment.run();
+  ASSERT_EQ(r.segments.size(), 3u);
+  const CrystalRow& released = r.curve[r.segments[1].last_row];
+  EXPECT_LT(released.deviator, 0.02 * kP0);
+  EXPECT_LT(released.strain, 0.002);
+  EXPECT_NEAR(r.curve.back().strain, 0.0025, 1e-6);
+  EXPECT_GT(r.curve.back().deviator, 2 * kP0);
 }
 
 }  // namespace
