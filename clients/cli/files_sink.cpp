@@ -24,24 +24,6 @@ long peak_rss_bytes() {
   return usage.ru_maxrss * 1024L;  // KiB on Linux
 }
 
-// curve.csv (header, then rows of numbers) in the form the pictures take: {"columns": [...], name: [values]}.
-nlohmann::json curve_json(const fs::path& csv, const std::vector<CurveColumn>& columns) {
-  nlohmann::json curve = {{"columns", nlohmann::json::array()}};
-  for (const CurveColumn& c : columns) curve["columns"].push_back(c.name), curve[c.name] = nlohmann::json::array();
-  std::ifstream in(csv, std::ios::binary);
-  std::string line;
-  std::getline(in, line);  // the header
-  while (std::getline(in, line)) {
-    const char* p = line.c_str();
-    for (const CurveColumn& c : columns) {
-      char* end = nullptr;
-      curve[c.name].push_back(std::strtod(p, &end));
-      p = *end == ',' ? end + 1 : end;
-    }
-  }
-  return curve;
-}
-
 }  // namespace
 
 void write_file(const fs::path& path, const std::string& text) {
@@ -118,8 +100,9 @@ void FilesSink::summary(const nlohmann::json& summary) {
   s["peak_rss_bytes"] = peak_rss_bytes();
   // The curve as the server draws it (curve.svg), before the summary that marks the run finished.
   const nlohmann::json spec = s.contains("spec") ? s["spec"] : nlohmann::json::object();
-  write_file(dir_ / "curve.svg",
-             pictures::line_plot_svg(pictures::job_curve_plot(spec, curve_json(dir_ / "curve.csv", columns_), s)));
+  std::ifstream csv(dir_ / "curve.csv", std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  write_file(dir_ / "curve.svg", pictures::line_plot_svg(pictures::job_curve_plot(spec, api::curve_csv_to_json(text), s)));
   write_file(dir_ / "summary.json", s.dump(2) + "\n");
   if (!checkpoint_file_.empty()) fs::remove(checkpoint_file_);  // a finished run is not resumed
 }

@@ -11,28 +11,23 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double branch_secant(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
                      std::size_t last, double change, double fraction) {
-  if (!(std::abs(change) > 0)) return kNaN;
-  for (std::size_t k = from + 1; k <= last && k < strain.size(); ++k) {
-    if ((deviator[k] - deviator[from]) / change < fraction) continue;
-    const double de = strain[k] - strain[from];
-    return de != 0 ? (deviator[k] - deviator[from]) / de : kNaN;
-  }
-  return kNaN;
+  return branch_secant_between(strain, deviator, from, last, change, 0, fraction);
 }
 
 double branch_secant_between(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
                              std::size_t last, double change, double f0, double f1) {
   if (!(std::abs(change) > 0)) return kNaN;
-  std::size_t k0 = 0, k1 = 0;
+  constexpr std::size_t kNone = std::size_t(-1);
+  std::size_t k0 = f0 > 0 ? kNone : from, k1 = kNone;  // f0 = 0: the turning point itself
   for (std::size_t k = from + 1; k <= last && k < strain.size(); ++k) {
     const double f = (deviator[k] - deviator[from]) / change;
-    if (!k0 && f >= f0) k0 = k;
+    if (k0 == kNone && f >= f0) k0 = k;
     if (f >= f1) {
       k1 = k;
       break;
     }
   }
-  if (!k0 || !k1 || strain[k1] == strain[k0]) return kNaN;
+  if (k0 == kNone || k1 == kNone || strain[k1] == strain[k0]) return kNaN;
   return (deviator[k1] - deviator[k0]) / (strain[k1] - strain[k0]);
 }
 

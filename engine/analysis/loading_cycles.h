@@ -41,7 +41,7 @@ double branch_secant(const std::vector<double>& strain, const std::vector<double
                      std::size_t last, double change, double fraction = 0.2);
 
 /// The secant (Pa) between the first rows, from `from` up to `last`, at which the deviator has changed by
-/// `f0` and by `f1` of `change`; NaN if it gets to neither with a strain change.
+/// `f0` and by `f1` of `change` (f0 = 0: row `from` itself); NaN if it gets to neither with a strain change.
 double branch_secant_between(const std::vector<double>& strain, const std::vector<double>& deviator, std::size_t from,
                              std::size_t last, double change, double f0, double f1);
 

@@ -14,24 +14,31 @@ const char* segment_kind_name(LoadSegment::Kind kind) {
   return "?";
 }
 
-double planned_travel(const std::vector<LoadSegment>& program) {
-  double travel = 0, strain = 0;
+namespace {
+
+// The travel of a program whose to_deviator segments each leave the strain at release(strain).
+template <class Release>
+double travel(const std::vector<LoadSegment>& program, Release release) {
+  double total = 0, strain = 0;
   for (const LoadSegment& s : program) {
-    if (s.kind == LoadSegment::Kind::to_strain) travel += std::abs(s.value - strain), strain = s.value;
-    // Counted as releasing half the strain: the reference crystal at 30 kPa, unloaded to a deviator of 0 at
-    // 0.5 to 2 %, gave back 37 to 47 % of it (README, "Loading cycles").
-    if (s.kind == LoadSegment::Kind::to_deviator) travel += strain / 2, strain /= 2;
+    double to = strain;
+    if (s.kind == LoadSegment::Kind::to_strain) to = s.value;
+    if (s.kind == LoadSegment::Kind::to_deviator) to = release(strain);
+    total += std::abs(to - strain), strain = to;
   }
-  return travel;
+  return total;
+}
+
+}  // namespace
+
+// A release counted as giving back half the strain: the reference crystal at 30 kPa, unloaded to a
+// deviator of 0 at 0.5 to 2 %, gave back 37 to 47 % of it (README, "Loading cycles").
+double planned_travel(const std::vector<LoadSegment>& program) {
+  return travel(program, [](double strain) { return strain / 2; });
 }
 
 double travel_bound(const std::vector<LoadSegment>& program) {
-  double travel = 0, strain = 0;
-  for (const LoadSegment& s : program) {
-    if (s.kind == LoadSegment::Kind::to_strain) travel += std::abs(s.value - strain), strain = s.value;
-    if (s.kind == LoadSegment::Kind::to_deviator) travel += strain + 0.05, strain = -0.05;
-  }
-  return travel;
+  return travel(program, [](double) { return -0.05; });
 }
 
 double hold_steps(const std::vector<LoadSegment>& program) {
