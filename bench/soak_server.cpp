@@ -15,7 +15,7 @@
 
 #include <unistd.h>
 
-#include "server/routes.h"
+#include "server/http_server.h"
 #include "server/worker_pool.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
     JobStore store((dir / "jobs.db").string());
     WorkerPool pool(store, 1, 1);
     HttpServer http(store, pool, HttpOptions{1 << 20, 8, {}});
+    for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes, mount_export_routes,
+                       mount_web_routes, mount_worker_routes})
+      http.mount(group);
     const int port = http.bind("127.0.0.1", 0);
     std::thread serving([&] { http.serve(); });
     pool.start();

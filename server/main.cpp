@@ -20,7 +20,7 @@
 #include "api/int_option.h"
 #include "api/passive_openmp.h"
 #include "server/instance_lock.h"
-#include "server/routes.h"
+#include "server/http_server.h"
 #include "server/store/job_store.h"
 #include "server/slurm/slurm_executor.h"
 #include "server/worker_pool.h"
@@ -171,6 +171,9 @@ int main(int argc, char** argv) {
       if (!warning.empty()) spdlog::warn("{}", warning);
     }
     HttpServer http(store, pool, options);
+    for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes,
+                       mount_export_routes, mount_web_routes, mount_worker_routes})
+      http.mount(group);
     const int bound = http.bind(host, port);
     if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + " (is another server using the port?)");
     if (cluster) {

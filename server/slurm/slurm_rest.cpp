@@ -5,8 +5,6 @@
 
 #include "server/slurm/jwt.h"
 
-// After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
-#include <httplib.h>
 
 namespace granulab::server::slurm {
 
@@ -88,13 +86,11 @@ bool SlurmJob::covers_task(std::int64_t task) const {
   return false;
 }
 
-RestClient::RestClient(RestOptions options) : options_(std::move(options)), http_(std::make_unique<httplib::Client>(options_.url)) {
-  if (!http_->is_valid()) throw std::invalid_argument("cannot use the Slurm REST URL '" + options_.url + "'");
+RestClient::RestClient(RestOptions options)
+    : options_(std::move(options)), http_(std::make_unique<http::Client>(options_.url, 5, 30, 30)) {
+  if (!http_->valid()) throw std::invalid_argument("cannot use the Slurm REST URL '" + options_.url + "'");
   if (options_.jwt_key.empty() && options_.jwt.empty())
     throw std::invalid_argument("the Slurm executor needs --slurm-jwt-key FILE or SLURM_JWT");
-  http_->set_connection_timeout(5);
-  http_->set_read_timeout(30);
-  http_->set_write_timeout(30);
 }
 
 RestClient::~RestClient() = default;
@@ -113,12 +109,11 @@ std::string RestClient::token() {
 
 json RestClient::call(const std::string& method, const std::string& path, const std::string& body, int& status) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const httplib::Headers headers = {{"X-SLURM-USER-NAME", options_.user}, {"X-SLURM-USER-TOKEN", token()}};
   const std::string full = std::string("/slurm/") + kDialect + path;
-  const httplib::Result r = method == "POST"     ? http_->Post(full, headers, body, "application/json")
-                           : method == "DELETE" ? http_->Delete(full, headers)
-                                                : http_->Get(full, headers);
-  if (!r) throw Unreachable("cannot reach slurmrestd at " + options_.url + " (" + httplib::to_string(r.error()) + ")");
+  std::string problem;
+  const auto r = http_->send(method, full, {{"X-SLURM-USER-NAME", options_.user}, {"X-SLURM-USER-TOKEN", token()}}, body,
+                             "application/json", problem);
+  if (!r) throw Unreachable("cannot reach slurmrestd at " + options_.url + " (" + problem + ")");
   status = r->status;
   if (r->status == 404 && r->body.find("Unable to find") != std::string::npos)
     throw Refused("slurmrestd at " + options_.url + " does not serve openapi/" + kDialect + " (" + method + " " + full +

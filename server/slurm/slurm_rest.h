@@ -16,9 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace httplib {
-class Client;
-}
+#include "server/http/client.h"
 
 namespace granulab::server::slurm {
 
@@ -72,7 +70,7 @@ class RestClient {
   nlohmann::json call(const std::string& method, const std::string& path, const std::string& body, int& status);
   std::string token();
   RestOptions options_;
-  std::unique_ptr<httplib::Client> http_;
+  std::unique_ptr<http::Client> http_;
   std::mutex mutex_;  // one request at a time on the one connection
   std::string token_;
   std::chrono::steady_clock::time_point token_renew_;

@@ -1375,7 +1375,7 @@ class BadInputTest(unittest.TestCase):
         cases.append(Case("HEAD /v1/jobs/0", "HEAD", "/v1/jobs/0"))
         cases.append(Case("experiments with unknown parameters", "GET", "/v1/experiments?junk=%FF&x", expect=400,
                           field="junk"))
-        cases.append(get("/v1/health?limit=-1", 200))
+        cases.append(Case("health with an unknown parameter", "GET", "/v1/health?limit=-1", expect=400, field="limit"))
         return cases
 
     def raw_cases(self, done):

@@ -14,13 +14,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/routes.h"
+#include "server/http_server.h"
 #include "server/worker_pool.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
 
 namespace granulab::server {
+
+/// Every route group, as granulabd (server/main.cpp) mounts them.
+inline void mount_every_route(HttpServer& server) {
+  for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes, mount_export_routes,
+                     mount_web_routes, mount_worker_routes})
+    server.mount(group);
+}
 
 class Daemon : public ::testing::Test {
  protected:
@@ -31,6 +38,7 @@ class Daemon : public ::testing::Test {
     store_ = std::make_unique<JobStore>((dir_ / "jobs.db").string());
     pool_ = std::make_unique<WorkerPool>(*store_, 1, 1, 0.05);
     http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 4, {}});
+    mount_every_route(*http_);
     port_ = http_->bind("127.0.0.1", 0);
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });
@@ -42,6 +50,7 @@ class Daemon : public ::testing::Test {
     http_->stop();
     serving_.join();
     http_ = std::make_unique<HttpServer>(*store_, *pool_, options);
+    mount_every_route(*http_);
     port_ = http_->bind("127.0.0.1", 0);
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });

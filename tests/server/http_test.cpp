@@ -21,7 +21,7 @@
 
 #include "api/engine_version.h"
 #include "api/runner.h"
-#include "server/routes.h"
+#include "server/http_server.h"
 #include "server/worker_pool.h"
 #include "tests/server/daemon_fixture.h"
 
@@ -156,6 +156,7 @@ TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
   http_->stop();
   serving_.join();
   http_ = std::make_unique<HttpServer>(*store_, *pool_, HttpOptions{64 * 1024, 8, {}});
+  mount_every_route(*http_);
   port_ = http_->bind("127.0.0.1", 0);
   serving_ = std::thread([this] { http_->serve(); });
   client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);

@@ -19,7 +19,8 @@
 #include <nlohmann/json.hpp>
 
 #include "server/executor.h"
-#include "server/routes.h"
+#include "server/http_server.h"
+#include "tests/server/daemon_fixture.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -68,6 +69,7 @@ class WorkerRoutes : public ::testing::Test {
     options.max_body_bytes = 64 * 1024;
     options.tokens = {{"user-token", User{"alice", true}}};
     http_ = std::make_unique<HttpServer>(*store_, executor_, options);
+    mount_every_route(*http_);
     port_ = http_->bind("127.0.0.1", 0);
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });

@@ -4,8 +4,9 @@
 #include "api/pictures/curve_pictures.h"
 #include "api/pictures/section_picture.h"
 #include "api/snapshot_files.h"
-#include "server/routes.h"
-#include "server/route_helpers.h"
+#include "server/routes/routes.h"
+#include "server/http/replies.h"
+#include "server/job_views.h"
 
 namespace granulab::server {
 
@@ -18,35 +19,34 @@ constexpr std::size_t max_sweep_curves = 50;  // beyond this a legend is unreada
 
 }  // namespace
 
-void HttpServer::picture_routes() {
-  router().Get(R"(/v1/jobs/(\d+)/curve\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto job = job_for(req, res, "read", false);
+void mount_picture_routes(Router& router, const RouteContext& c) {
+  router.get(R"(/v1/jobs/(\d+)/curve\.svg)", {}, [c](const http::Request& req, http::Response& res) {
+    const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
-    const auto svg = job_curve_svg(store_, *job);
+    const auto svg = job_curve_svg(c.store, *job);
     if (!svg)
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + " and has no curve yet");
     res.set_content(*svg, "image/svg+xml");
-  }));
+  });
 
-  router().Get(R"(/v1/sweeps/(\d+)/curves\.svg)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto sweep = sweep_for(req, res, "read", false);
+  router.get(R"(/v1/sweeps/(\d+)/curves\.svg)", {}, [c](const http::Request& req, http::Response& res) {
+    const auto sweep = c.access.sweep_for(c.store, req, res, "read", false);
     if (!sweep) return;
     std::vector<pictures::SweepCurve> curves;
     std::size_t left_out = 0;
-    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+    for (const JobRecord& j : c.store.sweep_jobs(sweep->id)) {
       if (curves.size() == max_sweep_curves) {
         ++left_out;
         continue;
       }
-      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(store_, j).value_or(json::object()), j.status});
+      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(c.store, j).value_or(json::object()), j.status});
     }
     const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
     res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out)), "image/svg+xml");
-  }));
+  });
 
-  router().Get(R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", only({"field", "slice"}, [this](const httplib::Request& req,
-                                                                                        httplib::Response& res) {
-    const auto job = job_for(req, res, "read", false);
+  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", {"field", "slice"}, [c](const http::Request& req, http::Response& res) {
+    const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     const std::string field_name = req.has_param("field") ? req.get_param_value("field") : "equivalent_strain";
     const auto field = pictures::parse_field(field_name);
@@ -61,7 +61,7 @@ void HttpServer::picture_routes() {
       layer = int(value);
     }
     const auto index = path_id(req.matches[2]);
-    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
+    const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
     if (!blob)
       return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(job->id));
     GrainSnapshot snapshot;
@@ -76,7 +76,7 @@ void HttpServer::picture_routes() {
     } catch (const std::out_of_range& e) {
       error(res, 400, "out_of_range", e.what(), "slice");
     }
-  }));
+  });
 }
 
 }  // namespace granulab::server

@@ -3,31 +3,32 @@
 #include <string>
 
 #include "server/embedded_files.h"
-#include "server/routes.h"
-#include "server/route_helpers.h"
+#include "server/routes/routes.h"
+#include "server/http/replies.h"
+#include "server/job_views.h"
 
 namespace granulab::server {
 
 using nlohmann::json;
 using namespace http;
 
-void HttpServer::web_routes() {
-  // One embedded file per route (literal paths: tests/server/openapi_test.cpp reads them from here).
+void mount_web_routes(Router& router, const RouteContext&) {
+  // One embedded file per route.
   const auto file = [](const char* name, const char* type) {
-    return only({}, [name, type](const httplib::Request&, httplib::Response& res) {
+    return [name, type](const http::Request&, http::Response& res) {
       const auto text = embedded_file(name);
       if (!text) return error(res, 404, "not_found", std::string("this build has no ") + name);
       res.set_content(std::string(*text), type);
       // The page is part of the binary: a browser revalidates it rather than keeping an old daemon's.
       res.set_header("Cache-Control", "no-cache");
-    });
+    };
   };
-  router().Get("/", file("server/web/index.html", "text/html; charset=utf-8"));
-  router().Get("/web/app.js", file("server/web/app.js", "text/javascript; charset=utf-8"));
-  router().Get("/web/style.css", file("server/web/style.css", "text/css; charset=utf-8"));
+  router.get("/", {}, file("server/web/index.html", "text/html; charset=utf-8"));
+  router.get("/web/app.js", {}, file("server/web/app.js", "text/javascript; charset=utf-8"));
+  router.get("/web/style.css", {}, file("server/web/style.css", "text/css; charset=utf-8"));
 
   // The specs of examples/ (the paper's experiments), by name: what the submit form is prefilled from.
-  router().Get("/v1/examples", only({}, [](const httplib::Request&, httplib::Response& res) {
+  router.get("/v1/examples", {}, [](const http::Request&, http::Response& res) {
     static const json examples = [] {
       json list = json::array();
       for (std::string_view name : embedded_names()) {
@@ -41,7 +42,7 @@ void HttpServer::web_routes() {
       return json{{"examples", list}};
     }();
     reply(res, 200, examples);
-  }));
+  });
 }
 
 }  // namespace granulab::server

@@ -4,20 +4,21 @@
 #include "api/sweep.h"
 #include "api/engine_version.h"
 #include "api/runner.h"
-#include "server/routes.h"
-#include "server/route_helpers.h"
+#include "server/routes/routes.h"
+#include "server/http/replies.h"
+#include "server/job_views.h"
 
 namespace granulab::server {
 
 using nlohmann::json;
 using namespace http;
 
-void HttpServer::sweep_routes() {
+void mount_sweep_routes(Router& router, const RouteContext& c) {
   // A sweep: every point validated (and within the budget and the quota) before any job is created.
-  router().Post("/v1/sweeps", only({"priority"}, [this](const httplib::Request& req, httplib::Response& res) {
+  router.post("/v1/sweeps", {"priority"}, [c](const http::Request& req, http::Response& res) {
     api::Sweep sweep;
     try {
-      sweep = api::parse_sweep(api::parse_bounded_json(req.body), std::size_t(options_.max_jobs_per_sweep));
+      sweep = api::parse_sweep(api::parse_bounded_json(req.body), c.max_jobs_per_sweep);
     } catch (const api::SpecError& e) {
       return error(res, 400, e.code, e.what(), e.field);
     }
@@ -25,10 +26,10 @@ void HttpServer::sweep_routes() {
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
     // Over budget: which point, by its values.
     for (const api::SweepPoint& p : sweep.points)
-      if (const std::string problem = budget_problem(p.spec); !problem.empty())
+      if (const std::string problem = c.admission.budget_problem(p.spec); !problem.empty())
         return error(res, 400, "over_budget", "the point " + p.values.dump() + ": " + problem, "vary");
-    const User who = caller(req).value_or(User{});
-    if (!within_queue_quota(who, sweep.points.size(), res)) return;
+    const User who = c.access.who(req);
+    if (!c.admission.within_queue_quota(who, sweep.points.size(), res)) return;
     std::vector<JobStore::SweepJob> jobs;
     for (const api::SweepPoint& p : sweep.points) {
       // "<sweep or spec label> (key=value, ...)", or just the values: what tells the sweep's jobs apart.
@@ -42,30 +43,30 @@ void HttpServer::sweep_routes() {
     SweepRecord record;
     record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;
     record.base_json = sweep.base.dump(), record.vary_json = sweep.vary.dump();
-    const auto [id, ids] = store_.submit_sweep(record, jobs, api::engine_version(), int(priority));
-    pool_.notify();
+    const auto [id, ids] = c.store.submit_sweep(record, jobs, api::engine_version(), int(priority));
+    c.executor.notify();
     reply(res, 201, {{"id", id}, {"jobs", ids}});
-  }));
+  });
 
-  router().Get("/v1/sweeps", only({"owner", "limit", "offset"}, [this](const httplib::Request& req, httplib::Response& res) {
+  router.get("/v1/sweeps", {"owner", "limit", "offset"}, [c](const http::Request& req, http::Response& res) {
     long limit = 50, offset = 0;
     if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
-    const auto owner = listing_owner(req, res, "sweeps");
+    const auto owner = c.access.listing_owner(req, res, "sweeps");
     if (!owner) return;
     json sweeps = json::array();
-    for (const SweepRecord& s : store_.list_sweeps(int(limit), offset, *owner))
+    for (const SweepRecord& s : c.store.list_sweeps(int(limit), offset, *owner))
       sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
                         {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
     reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
-  }));
+  });
 
   // Its jobs with their values, status, progress, and (when done) first yield and peak.
-  router().Get(R"(/v1/sweeps/(\d+))", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto sweep = sweep_for(req, res, "read", false);
+  router.get(R"(/v1/sweeps/(\d+))", {}, [c](const http::Request& req, http::Response& res) {
+    const auto sweep = c.access.sweep_for(c.store, req, res, "read", false);
     if (!sweep) return;
     json jobs = json::array();
     std::map<std::string, int> counts;
-    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
+    for (const JobRecord& j : c.store.sweep_jobs(sweep->id)) {
       json item = {{"id", j.id},
                    {"status", j.status},
                    {"progress", j.progress},
@@ -73,7 +74,7 @@ void HttpServer::sweep_routes() {
       if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
       if (!j.error.empty()) item["error"] = j.error;
       if (json warnings = warnings_of(j); !warnings.empty()) item["warnings"] = std::move(warnings);
-      if (json latest = latest_values(store_, j); !latest.is_null()) item["latest"] = std::move(latest);
+      if (json latest = latest_values(c.store, j); !latest.is_null()) item["latest"] = std::move(latest);
       if (!j.summary_json.empty()) {
         const json summary = json::parse(j.summary_json, nullptr, false);
         for (const char* key : {"first_yield", "peak"})
@@ -86,22 +87,22 @@ void HttpServer::sweep_routes() {
           {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
            {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
            {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
-  }));
+  });
 
   // Cancels what has not finished: queued jobs at once, running ones within a second.
-  router().Post(R"(/v1/sweeps/(\d+)/cancel)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto sweep = sweep_for(req, res, "cancel", true);
+  router.post(R"(/v1/sweeps/(\d+)/cancel)", {}, [c](const http::Request& req, http::Response& res) {
+    const auto sweep = c.access.sweep_for(c.store, req, res, "cancel", true);
     if (!sweep) return;
     int cancelled = 0, requested = 0;
-    for (const JobRecord& j : store_.sweep_jobs(sweep->id)) {
-      const auto r = store_.request_cancel(j.id);
+    for (const JobRecord& j : c.store.sweep_jobs(sweep->id)) {
+      const auto r = c.store.request_cancel(j.id);
       cancelled += r == JobStore::CancelResult::cancelled_queued;
       requested += r == JobStore::CancelResult::requested_running;
       if (r == JobStore::CancelResult::cancelled_queued || r == JobStore::CancelResult::requested_running)
-        pool_.cancel_requested(j.id);
+        c.executor.cancel_requested(j.id);
     }
     reply(res, 200, {{"id", sweep->id}, {"cancelled", cancelled}, {"cancel_requested", requested}});
-  }));
+  });
 }
 
 }  // namespace granulab::server

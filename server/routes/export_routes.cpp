@@ -9,8 +9,9 @@
 #include <mutex>
 
 #include "api/snapshot_files.h"
-#include "server/routes.h"
-#include "server/route_helpers.h"
+#include "server/routes/routes.h"
+#include "server/http/replies.h"
+#include "server/job_views.h"
 
 namespace granulab::server {
 
@@ -54,18 +55,17 @@ class TarWriter {
 
 }  // namespace
 
-void HttpServer::export_routes() {
+void mount_export_routes(Router& router, const RouteContext& c) {
   // One snapshot: JSON (per-grain and per-interface arrays), a LAMMPS dump, or VTK (grains or interfaces).
-  router().Get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", only({"format"}, [this](const httplib::Request& req,
-                                                                           httplib::Response& res) {
-    const auto job = job_for(req, res, "read", false);
+  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", {"format"}, [c](const http::Request& req, http::Response& res) {
+    const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
     if (format != "json" && format != "dump" && format != "vtk" && format != "vtk_interfaces")
       return error(res, 400, "invalid_value",
                    "'format' must be one of: json, dump, vtk, vtk_interfaces, got '" + format + "'", "format");
     const auto index = path_id(req.matches[2]);
-    const auto blob = index && *index <= INT32_MAX ? store_.snapshot(job->id, int(*index)) : std::nullopt;
+    const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
     if (!blob)
       return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
     if (format == "json") return res.set_content(std::string(blob->begin(), blob->end()), "application/json");
@@ -79,19 +79,19 @@ void HttpServer::export_routes() {
     res.set_header("Content-Disposition",
                    "attachment; filename=\"" + name + (grains ? "_grains.vtk\"" : "_interfaces.vtk\""));
     res.set_content(grains ? api::snapshot_grains_vtk(s) : api::snapshot_interfaces_vtk(s), "text/plain");
-  }));
+  });
 
   // Everything of one job: spec.json, summary.json (when it succeeded), curve.csv, curve.svg and every
   // snapshot in every format, under job_<id>/.
-  router().Get(R"(/v1/jobs/(\d+)/archive)", only({}, [this](const httplib::Request& req, httplib::Response& res) {
-    const auto job = job_for(req, res, "read", false);
+  router.get(R"(/v1/jobs/(\d+)/archive)", {}, [c](const http::Request& req, http::Response& res) {
+    const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     // The tar is built in memory (about 2.2 times the stored snapshots: four formats) and held until the
     // client has read it: one build at a time, and none above the cap, so no reader can exhaust the
     // daemon's memory or its handler threads.
     constexpr double max_archive_bytes = 256e6;
     double stored = 0;
-    for (const auto& info : store_.snapshots(job->id)) stored += double(info.bytes);
+    for (const auto& info : c.store.snapshots(job->id)) stored += double(info.bytes);
     if (2.2 * stored > max_archive_bytes)
       return error(res, 413, "too_large",
                    "job " + std::to_string(job->id) + "'s archive would be about " + std::to_string(int(2.2 * stored / 1e6)) +
@@ -106,19 +106,19 @@ void HttpServer::export_routes() {
     const json spec = json::parse(job->spec_json, nullptr, false);
     tar.add(dir + "spec.json", spec.dump(2) + "\n");
     if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");
-    if (const auto csv = job->status == "succeeded" ? store_.curve_csv(job->id) : store_.live_curve_csv(job->id)) {
+    if (const auto csv = job->status == "succeeded" ? c.store.curve_csv(job->id) : c.store.live_curve_csv(job->id)) {
       tar.add(dir + "curve.csv", *csv);
-      if (const auto svg = job_curve_svg(store_, *job)) tar.add(dir + "curve.svg", *svg);
+      if (const auto svg = job_curve_svg(c.store, *job)) tar.add(dir + "curve.svg", *svg);
     }
-    for (const auto& info : store_.snapshots(job->id)) {
-      const auto blob = store_.snapshot(job->id, info.index);
+    for (const auto& info : c.store.snapshots(job->id)) {
+      const auto blob = c.store.snapshot(job->id, info.index);
       if (!blob) continue;
       const GrainSnapshot s = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
       for (const api::SnapshotFile& f : api::snapshot_files(std::size_t(info.index), s)) tar.add(dir + f.name, f.text);
     }
     res.set_header("Content-Disposition", "attachment; filename=\"job_" + std::to_string(job->id) + ".tar\"");
     res.set_content(tar.finish(), "application/x-tar");
-  }));
+  });
 }
 
 }  // namespace granulab::server

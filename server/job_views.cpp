@@ -1,35 +1,11 @@
+#include "server/job_views.h"
+
 #include "api/curve_format.h"
 #include "api/pictures/curve_pictures.h"
-#include "server/route_helpers.h"
 
-#include <algorithm>
-
-namespace granulab::server::http {
+namespace granulab::server {
 
 using nlohmann::json;
-
-void reply(httplib::Response& res, int status, const json& body) {
-  res.status = status;
-  // Messages may quote what a request sent: invalid UTF-8 is replaced, never thrown on.
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace) + "\n", "application/json");
-}
-
-// A path id of 1 to 18 digits (the route's regex has already checked they are digits); anything longer
-// cannot be a job, snapshot or row number, so it is simply not found. No exception either way.
-std::optional<std::int64_t> path_id(const std::string& digits) {
-  if (digits.empty() || digits.size() > 18) return std::nullopt;
-  std::int64_t v = 0;
-  for (char c : digits) {
-    if (c < '0' || c > '9') return std::nullopt;
-    v = 10 * v + (c - '0');
-  }
-  return v;
-}
-
-void error(httplib::Response& res, int status, const std::string& code, const std::string& message,
-           const std::string& field) {
-  reply(res, status, {{"error", {{"code", code}, {"message", message}, {"field", field}}}});
-}
 
 json job_json(const JobRecord& j, bool full) {
   json out = {{"id", j.id},
@@ -58,42 +34,6 @@ json job_json(const JobRecord& j, bool full) {
     if (!j.summary_json.empty()) out["summary"] = json::parse(j.summary_json);
   }
   return out;
-}
-
-// Only the query parameters a route knows: `?resue=true` is a typo to report, not to ignore.
-httplib::Server::Handler only(std::vector<std::string> known, httplib::Server::Handler handler) {
-  return [known = std::move(known), handler = std::move(handler)](const httplib::Request& req, httplib::Response& res) {
-    // The URL's own query, not req.params: cpp-httplib also puts a form-encoded body's fields there.
-    httplib::Params query;
-    const auto mark = req.target.find('?');
-    if (mark != std::string::npos) httplib::detail::parse_query_text(req.target.substr(mark + 1), query);
-    for (const auto& [name, value] : query) {
-      if (std::find(known.begin(), known.end(), name) != known.end()) continue;
-      std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      return error(res, 400, "unknown_parameter",
-                   "unknown query parameter '" + name + "' (" +
-                       (known.empty() ? std::string("this route takes none") : "this route takes: " + list) + ")",
-                   name);
-    }
-    handler(req, res);
-  };
-}
-
-// Query integers with a range; a bad value is a 400 that names the parameter.
-bool query_int(const httplib::Request& req, httplib::Response& res, const char* name, long lo, long hi, long& value) {
-  if (!req.has_param(name)) return true;
-  const std::string text = req.get_param_value(name);
-  const bool negative = !text.empty() && text[0] == '-';
-  if (const auto v = path_id(negative ? text.substr(1) : text)) {
-    value = negative ? -*v : *v;
-    if (value >= lo && value <= hi) return true;
-  }
-  error(res, 400, "out_of_range",
-        std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-            "], got '" + text + "'",
-        name);
-  return false;
 }
 
 json parsed_or_null(const std::string& text) {
@@ -143,4 +83,4 @@ std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job) 
   return pictures::line_plot_svg(plot);
 }
 
-}  // namespace granulab::server::http
+}  // namespace granulab::server
