@@ -47,14 +47,14 @@ nlohmann::json curve_csv_to_json(const std::string& csv) {
   return out;
 }
 
-std::size_t curve_csv_prefix(const std::string& csv, std::size_t rows) {
+std::optional<std::string> resumed_curve(const std::string& csv, std::size_t rows) {
   std::size_t end = 0;
-  for (std::size_t line = 0; line <= rows; ++line) {
+  for (std::size_t line = 0; line <= rows; ++line) {  // the header, then `rows` rows
     const auto newline = csv.find('\n', end);
-    if (newline == std::string::npos) return csv.size();
+    if (newline == std::string::npos) return std::nullopt;
     end = newline + 1;
   }
-  return end;
+  return csv.substr(0, end);
 }
 
 }  // namespace granulab::api

@@ -2,6 +2,7 @@
 // columns, and the JSON columns form that GET /v1/jobs/{id}/curve serves.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,8 @@ std::string curve_csv_line(const std::vector<CurveColumn>& columns, const std::v
 /// CSV text (header row first, numeric cells) as {"columns": [names], "<name>": [values], ...}.
 nlohmann::json curve_csv_to_json(const std::string& csv);
 
-/// The length in bytes of the header line and the first `rows` rows of a curve CSV (all of it if shorter).
-std::size_t curve_csv_prefix(const std::string& csv, std::size_t rows);
+/// The rule of every resumed run: the header and the first `rows` rows of the curve it had written, which
+/// the run continues after its checkpoint; nullopt when `csv` holds fewer rows (it is not that run's curve).
+std::optional<std::string> resumed_curve(const std::string& csv, std::size_t rows);
 
 }  // namespace granulab::api

@@ -16,9 +16,9 @@ void MemorySink::begin(const std::vector<CurveColumn>& columns, const Resume* re
   columns_ = columns;
   if (!resume || curve_csv_.empty()) curve_csv_ = curve_csv_header(columns);
   if (!resume) return snapshots_.clear();
-  curve_csv_.resize(curve_csv_prefix(curve_csv_, resume->rows));
-  if (std::size_t(std::count(curve_csv_.begin(), curve_csv_.end(), '\n')) != resume->rows + 1)
-    throw CheckpointError("the sink holds fewer curve rows than the checkpoint follows");
+  auto kept = resumed_curve(curve_csv_, resume->rows);
+  if (!kept) throw CheckpointError("the sink holds fewer curve rows than the checkpoint follows");
+  curve_csv_ = std::move(*kept);
   if (snapshots_.size() > resume->snapshots) snapshots_.resize(resume->snapshots);
 }
 

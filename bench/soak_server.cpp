@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::seconds(seconds));
     running = false;
     for (std::thread& t : threads) t.join();
-    const std::size_t done = store.count("succeeded");
+    const std::size_t done = store.count(JobStatus::succeeded);
     http.stop();
     serving.join();
     pool.stop();

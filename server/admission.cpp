@@ -56,7 +56,7 @@ bool Admission::within_budget(const api::Spec& spec, http::Response& res) const 
 
 bool Admission::within_queue_quota(const User& who, std::size_t more, http::Response& res) const {
   if (limits_.max_queued_per_user <= 0) return true;
-  const std::size_t queued = store_.count("queued", who.name);
+  const std::size_t queued = store_.count(JobStatus::queued, who.name);
   if (queued + more <= std::size_t(limits_.max_queued_per_user)) return true;
   http::error(res, 429, "quota",
               (who.name.empty() ? std::string("the server") : "user '" + who.name + "'") + " has " +
@@ -75,7 +75,7 @@ json Admission::cost_estimate(const api::Spec& spec) const {
   // the same jobs also say what fraction of it runs took (their steps over their own estimate).
   // With no similar run, the bound itself: an upper estimate.
   std::vector<double> same, any, used;
-  for (const JobRecord& j : store_.list("succeeded", 50, 0, "")) {
+  for (const JobRecord& j : store_.list(JobStatus::succeeded, 50, 0, "")) {
     const json summary = json::parse(j.summary_json, nullptr, false);
     if (!summary.is_object() || !summary.contains("sphere_steps_per_second") ||
         !summary["sphere_steps_per_second"].is_number())
@@ -121,7 +121,7 @@ json Admission::cost_estimate(const api::Spec& spec) const {
               {"rate_basis", basis},
               {"expected_seconds", fraction * w.sphere_steps() / rate},
               {"steps_fraction", fraction},
-              {"queued_ahead", store_.count("queued")},
+              {"queued_ahead", store_.count(JobStatus::queued)},
               {"units", {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
   if (const std::string problem = budget_problem(spec); !problem.empty()) out["over_budget"] = problem;
   return out;

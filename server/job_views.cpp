@@ -9,7 +9,7 @@ using nlohmann::json;
 
 json job_json(const JobRecord& j, bool full) {
   json out = {{"id", j.id},
-              {"status", j.status},
+              {"status", api::status_name(j.status)},
               {"label", j.label},
               {"experiment", j.experiment},
               {"progress", j.progress},
@@ -17,7 +17,7 @@ json job_json(const JobRecord& j, bool full) {
               {"started_ms", j.started_ms},
               {"finished_ms", j.finished_ms},
               {"priority", j.priority}};
-  if (j.eta_seconds >= 0 && j.status == "running") out["eta_seconds"] = j.eta_seconds;
+  if (j.eta_seconds >= 0 && j.status == JobStatus::running) out["eta_seconds"] = j.eta_seconds;
   if (!j.error.empty()) out["error"] = j.error;
   if (json warnings = warnings_of(j); !warnings.empty()) out["warnings"] = std::move(warnings);
   if (!j.owner.empty()) out["owner"] = j.owner;
@@ -42,7 +42,7 @@ json parsed_or_null(const std::string& text) {
 }
 
 json latest_values(JobStore& store, const JobRecord& job) {
-  if (job.status != "running") return nullptr;
+  if (job.status != JobStatus::running) return nullptr;
   const auto row = store.latest_row(job.id);
   if (!row) return nullptr;
   const json columns = api::curve_csv_to_json(row->first + row->second);
@@ -63,7 +63,7 @@ json warnings_of(const JobRecord& job) {
 }
 
 std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {
-  if (job.status == "succeeded")
+  if (job.status == JobStatus::succeeded)
     if (const auto text = store.curve_json(job.id)) {
       json curve = json::parse(*text, nullptr, false);
       if (!curve.is_discarded()) return curve;
@@ -79,7 +79,7 @@ std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job) 
   pictures::LinePlot plot =
       pictures::job_curve_plot(parsed_or_null(job.spec_json), *curve, parsed_or_null(job.summary_json));
   plot.title = job.label.empty() ? "job " + std::to_string(job.id) : job.label;
-  if (job.status != "succeeded") plot.title += " (" + job.status + ")";
+  if (job.status != JobStatus::succeeded) plot.title += std::string(" (") + api::status_name(job.status) + ")";
   return pictures::line_plot_svg(plot);
 }
 

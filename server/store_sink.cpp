@@ -33,12 +33,11 @@ void StoreSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
   curve_csv_ = api::curve_csv_header(columns);
   if (resume) {
     // The rows up to the checkpoint are in the store: the whole curve, when the job ends, starts with them.
-    const std::string stored = store_.live_curve_csv(job_).value_or(curve_csv_);
-    curve_csv_ = stored.substr(0, api::curve_csv_prefix(stored, resume->rows));
-    const auto rows = std::size_t(std::count(curve_csv_.begin(), curve_csv_.end(), '\n'));
-    if (rows != resume->rows + 1)  // the header and the rows the checkpoint follows, or it is not this run's
-      throw CheckpointError("the store holds " + std::to_string(rows ? rows - 1 : 0) + " curve rows, the checkpoint follows " +
-                            std::to_string(resume->rows));
+    auto kept = api::resumed_curve(store_.live_curve_csv(job_).value_or(curve_csv_), resume->rows);
+    if (!kept)
+      throw CheckpointError("the store holds fewer curve rows than the " + std::to_string(resume->rows) +
+                            " the checkpoint follows");
+    curve_csv_ = std::move(*kept);
     rows_stored_ = resume->rows;
     return;
   }

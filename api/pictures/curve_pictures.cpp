@@ -1,5 +1,7 @@
 #include "api/pictures/curve_pictures.h"
 
+#include "api/job_status.h"
+
 #include <cmath>
 
 #include "api/pictures/colour_map.h"
@@ -123,7 +125,7 @@ LinePlot sweep_curves_plot(const std::string& title, const std::vector<SweepCurv
         label += (label.empty() ? "" : ", ") + key.substr(dot == std::string::npos ? 0 : dot + 1) + " = " +
                  (value.is_number() ? num(value.get<double>(), 6) : value.dump());
       }
-    if (jobs[i].status != "succeeded") label += " (" + jobs[i].status + ")";
+    if (jobs[i].status != api::status_name(api::JobStatus::succeeded)) label += " (" + jobs[i].status + ")";
     // Up to eight curves take the palette's distinct colours; more run along the colour map in sweep order.
     const std::string colour = jobs.size() <= 8 ? palette(i) : viridis(double(i) / double(jobs.size() - 1));
     plot.series.push_back({label, std::move(c.x), std::move(c.y), colour, false});

@@ -54,12 +54,11 @@ void FilesSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
     // Keep the header and the rows up to the checkpoint, and the snapshots taken before it.
     std::ifstream in(path, std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::size_t keep = api::curve_csv_prefix(text, resume->rows);
-    const auto rows_in = [](const std::string& csv) { return std::size_t(std::count(csv.begin(), csv.end(), '\n')); };
-    if (text.rfind(api::curve_csv_header(columns_), 0) != 0 || rows_in(text.substr(0, keep)) != resume->rows + 1)
+    const auto kept = api::resumed_curve(text, resume->rows);
+    if (text.rfind(api::curve_csv_header(columns_), 0) != 0 || !kept)
       throw std::runtime_error("'" + path.string() + "' does not hold the " + std::to_string(resume->rows) +
                                " curve rows the checkpoint follows: resume into the --out of the interrupted run");
-    write_file(path, text.substr(0, keep));
+    write_file(path, *kept);
     for (const auto& entry : fs::directory_iterator(dir_ / "snapshots")) {
       const std::string name = entry.path().filename().string();
       if (name.rfind("snapshot_", 0) != 0) continue;

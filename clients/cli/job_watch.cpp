@@ -1,5 +1,7 @@
 #include "clients/cli/job_watch.h"
 
+#include "api/job_status.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -33,8 +35,6 @@ std::string duration(double s) {
 
 namespace {
 
-bool finished(const std::string& status) { return status == "succeeded" || status == "failed" || status == "cancelled"; }
-
 // A number at `key`, or `fallback` when it is missing or not a number (a NaN cell arrives as null).
 double number(const json& j, const char* key, double fallback = 0) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
@@ -51,9 +51,9 @@ std::string job_line(const json& job, int bar_width) {
                 std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(bar_width - filled), '.').c_str(),
                 100 * progress);
   std::string line = head;
-  if (status == "running" && job.contains("eta_seconds")) line += "  ETA " + duration(number(job, "eta_seconds"));
+  if (status == api::status_name(api::JobStatus::running) && job.contains("eta_seconds")) line += "  ETA " + duration(number(job, "eta_seconds"));
   // On a cluster, while it waits there: Slurm's word on why (e.g. "Slurm 123: PENDING (Resources)").
-  if (status == "queued" && job.contains("slurm_state") && job["slurm_state"].is_string())
+  if (status == api::status_name(api::JobStatus::queued) && job.contains("slurm_state") && job["slurm_state"].is_string())
     line += "  Slurm " + job.value("slurm_job_id", std::string("?")) + ": " + job["slurm_state"].get<std::string>();
   // The latest strain and stress of a running job, the first yield of a finished crystal.
   if (job.contains("latest") && job["latest"].is_object()) {
@@ -93,8 +93,8 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
     bool all_done = true;
     std::vector<std::string> lines;
     for (const std::string& id : ids) {
-      if (!last.count(id) || !finished(last[id].value("status", ""))) last[id] = get("/v1/jobs/" + id);
-      all_done = all_done && finished(last[id].value("status", ""));
+      if (!last.count(id) || !api::is_finished(last[id].value("status", ""))) last[id] = get("/v1/jobs/" + id);
+      all_done = all_done && api::is_finished(last[id].value("status", ""));
       lines.push_back(job_line(last[id]));
     }
     if (tty) {
@@ -116,7 +116,7 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
     if (interrupted) {
       std::string running;
       for (const std::string& id : ids)
-        if (!finished(last[id].value("status", ""))) running += (running.empty() ? "" : ", ") + id;
+        if (!api::is_finished(last[id].value("status", ""))) running += (running.empty() ? "" : ", ") + id;
       std::fprintf(stderr, "\nstopped waiting; on the server, job%s %s go%s on (granulab cancel ID stops one)\n",
                    running.find(',') != std::string::npos ? "s" : "", running.c_str(),
                    running.find(',') != std::string::npos ? "" : "es");
@@ -127,7 +127,7 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
   sigaction(SIGINT, &previous, nullptr);
   for (const std::string& id : ids) {
     const json& j = last[id];
-    if (j.value("status", "") != "succeeded") result = 1;
+    if (j.value("status", "") != api::status_name(api::JobStatus::succeeded)) result = 1;
     if (j.contains("warnings") && j["warnings"].is_array())
       for (const json& w : j["warnings"])
         if (w.is_string()) std::fprintf(stderr, "job %s warning: %s\n", id.c_str(), w.get<std::string>().c_str());

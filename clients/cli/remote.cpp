@@ -1,5 +1,7 @@
 #include "clients/cli/remote.h"
 
+#include "api/job_status.h"
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -181,7 +183,7 @@ int run_sweep(httplib::Client& http, const Args& a) {
            "," + std::to_string(j.value("warnings", json::array()).size()) + "\n";
     const std::string id = std::to_string(j["id"].get<long long>());
     fs::create_directories(out / id);
-    if (j["status"] == "succeeded" || j["status"] == "cancelled" || j["status"] == "failed") {
+    if (api::is_finished(j.value("status", ""))) {
       const httplib::Result r = http.Get(("/v1/jobs/" + id + "/curve?format=csv").c_str());
       if (r && r->status == 200) save(out / id / "curve.csv", r->body);
     }

@@ -106,7 +106,7 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     const json spec = json::parse(job->spec_json, nullptr, false);
     tar.add(dir + "spec.json", spec.dump(2) + "\n");
     if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");
-    if (const auto csv = job->status == "succeeded" ? c.store.curve_csv(job->id) : c.store.live_curve_csv(job->id)) {
+    if (const auto csv = job->status == JobStatus::succeeded ? c.store.curve_csv(job->id) : c.store.live_curve_csv(job->id)) {
       tar.add(dir + "curve.csv", *csv);
       if (const auto svg = job_curve_svg(c.store, *job)) tar.add(dir + "curve.svg", *svg);
     }

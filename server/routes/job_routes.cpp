@@ -37,31 +37,30 @@ void mount_job_routes(Router& router, const RouteContext& c) {
       return error(res, 400, "invalid_value", "'reuse' must be true or false, got '" + reuse + "'", "reuse");
     if (reuse == "true") {
       if (const auto id = c.store.find_succeeded(hash, api::engine_version()))
-        return reply(res, 200, {{"id", *id}, {"status", "succeeded"}, {"reused", true}});
+        return reply(res, 200, {{"id", *id}, {"status", api::status_name(JobStatus::succeeded)}, {"reused", true}});
     }
     const User who = c.access.who(req);
     if (!c.admission.within_queue_quota(who, 1, res)) return;
     const std::int64_t id = c.store.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
                                           who.name, int(priority));
     c.executor.notify();
-    reply(res, 201, {{"id", id}, {"status", "queued"}});
+    reply(res, 201, {{"id", id}, {"status", api::status_name(JobStatus::queued)}});
   });
 
   router.get("/v1/jobs", {"status", "owner", "limit", "offset"}, [c](const http::Request& req, http::Response& res) {
     long limit = 50, offset = 0;
     if (!query_int(req, res, "limit", 1, 1000, limit) || !query_int(req, res, "offset", 0, 1L << 40, offset)) return;
-    const std::string status = req.has_param("status") ? req.get_param_value("status") : "";
-    if (!status.empty() && status != "queued" && status != "running" && status != "succeeded" && status != "failed" &&
-        status != "cancelled")
+    const std::string status_text = req.get_param_value("status");
+    const std::optional<JobStatus> status = api::parse_job_status(status_text);
+    if (!status_text.empty() && !status)  // an empty ?status= is no filter
       return error(res, 400, "invalid_value",
-                   "'status' must be one of: queued, running, succeeded, failed, cancelled, got '" + status + "'",
-                   "status");
+                   "'status' must be one of: " + api::job_status_names() + ", got '" + status_text + "'", "status");
     const auto owner = c.access.listing_owner(req, res, "jobs");
     if (!owner) return;
     json jobs = json::array();
     for (const JobRecord& j : c.store.list(status, int(limit), offset, *owner)) {
       jobs.push_back(job_json(j, false));
-      if (j.status == "running")
+      if (j.status == JobStatus::running)
         if (json latest = latest_values(c.store, j); !latest.is_null()) jobs.back()["latest"] = std::move(latest);
     }
     reply(res, 200, {{"jobs", jobs}, {"limit", limit}, {"offset", offset}});
@@ -84,7 +83,7 @@ void mount_job_routes(Router& router, const RouteContext& c) {
       case JobStore::WriteResult::not_found:
         return error(res, 404, "not_found", "no job " + std::to_string(job->id));
       case JobStore::WriteResult::wrong_state:
-        return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + ": cancel it first");
+        return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + ": cancel it first");
     }
   });
 
@@ -111,10 +110,10 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     switch (c.store.request_cancel(id)) {
       case JobStore::CancelResult::cancelled_queued:
         c.executor.cancel_requested(id);  // on a cluster it may be pending there
-        return reply(res, 200, {{"id", id}, {"status", "cancelled"}});
+        return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::cancelled)}});
       case JobStore::CancelResult::requested_running:
         c.executor.cancel_requested(id);
-        return reply(res, 202, {{"id", id}, {"status", "running"}, {"cancel_requested", true}});
+        return reply(res, 202, {{"id", id}, {"status", api::status_name(JobStatus::running)}, {"cancel_requested", true}});
       case JobStore::CancelResult::not_found:
         return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
       case JobStore::CancelResult::wrong_state:
@@ -131,11 +130,11 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     if (format != "json" && format != "csv")
       return error(res, 400, "invalid_value", "'format' must be json or csv, got '" + format + "'", "format");
     const bool csv = format == "csv";
-    if (job->status == "succeeded" && !csv)
+    if (job->status == JobStatus::succeeded && !csv)
       if (const auto json_text = c.store.curve_json(id)) return res.set_content(*json_text, "application/json");
     const auto text = c.store.live_curve_csv(id);
     if (!text)
-      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + job->status + " and has no curve yet");
+      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + api::status_name(job->status) + " and has no curve yet");
     if (csv) return res.set_content(*text, "text/csv");
     res.set_content(api::curve_csv_to_json(*text).dump(), "application/json");
   });

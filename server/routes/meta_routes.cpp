@@ -16,8 +16,8 @@ void mount_meta_routes(Router& router, const RouteContext& c) {
     reply(res, 200,
           {{"status", "ok"},
            {"engine_version", api::engine_version()},
-           {"queued", c.store.count("queued")},
-           {"running", c.store.count("running")},
+           {api::status_name(JobStatus::queued), c.store.count(JobStatus::queued)},
+           {api::status_name(JobStatus::running), c.store.count(JobStatus::running)},
            {"workers", c.executor.workers()},
            {"threads_per_job", c.executor.threads_per_job()},
            {"executor", c.executor.name()}});

@@ -25,7 +25,7 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
     if (!job) return;
     const auto svg = job_curve_svg(c.store, *job);
     if (!svg)
-      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + job->status + " and has no curve yet");
+      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + " and has no curve yet");
     res.set_content(*svg, "image/svg+xml");
   });
 
@@ -39,7 +39,7 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
         ++left_out;
         continue;
       }
-      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(c.store, j).value_or(json::object()), j.status});
+      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(c.store, j).value_or(json::object()), api::status_name(j.status)});
     }
     const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
     res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out)), "image/svg+xml");

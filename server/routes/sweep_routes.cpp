@@ -68,10 +68,10 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     std::map<std::string, int> counts;
     for (const JobRecord& j : c.store.sweep_jobs(sweep->id)) {
       json item = {{"id", j.id},
-                   {"status", j.status},
+                   {"status", api::status_name(j.status)},
                    {"progress", j.progress},
                    {"values", json::parse(j.sweep_values, nullptr, false)}};
-      if (j.status == "running" && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
+      if (j.status == JobStatus::running && j.eta_seconds >= 0) item["eta_seconds"] = j.eta_seconds;
       if (!j.error.empty()) item["error"] = j.error;
       if (json warnings = warnings_of(j); !warnings.empty()) item["warnings"] = std::move(warnings);
       if (json latest = latest_values(c.store, j); !latest.is_null()) item["latest"] = std::move(latest);
@@ -80,7 +80,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
         for (const char* key : {"first_yield", "peak"})
           if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
       }
-      ++counts[j.status];
+      ++counts[api::status_name(j.status)];
       jobs.push_back(item);
     }
     reply(res, 200,

@@ -18,7 +18,6 @@ using server::JobRecord;
 
 namespace {
 
-bool finished(const std::string& status) { return status == "succeeded" || status == "failed" || status == "cancelled"; }
 
 bool final_state(const std::string& s) {
   return s == "COMPLETED" || s == "FAILED" || s == "CANCELLED" || s == "TIMEOUT" || s == "NODE_FAIL" ||
@@ -239,25 +238,25 @@ void SlurmExecutor::follow_one(const JobRecord& listed, const SlurmJob* record) 
   const std::string& slurm_id = job.slurm_job_id;
   if (!record) {
     store_.set_slurm_state(job.id, slurm_id, "UNKNOWN (Slurm no longer knows job " + slurm_id + ")", true);
-    if (!finished(job.status))
+    if (!api::is_finished(job.status))
       store_.fail(job.id, "Slurm no longer knows job " + slurm_id + " and its worker never reported how it ended");
     return;
   }
   const std::string state = record->state + (record->reason.empty() ? "" : " (" + record->reason + ")");
   const bool ended = final_state(record->state);
-  if (!ended && (job.status == "cancelled" || job.cancel_requested) && !cancels_sent_.count(slurm_id)) {
+  if (!ended && (job.status == JobStatus::cancelled || job.cancel_requested) && !cancels_sent_.count(slurm_id)) {
     rest_.cancel(slurm_id);
     cancels_sent_.insert(slurm_id);
     spdlog::info("job {}: cancelled Slurm job {}", job.id, slurm_id);
   }
   if (state != job.slurm_state || ended) store_.set_slurm_state(job.id, slurm_id, state, ended);
   if (!ended) {
-    if (record->state == "RUNNING" && job.status == "queued") store_.mark_running(job.id, slurm_id);
+    if (record->state == "RUNNING" && job.status == JobStatus::queued) store_.mark_running(job.id, slurm_id);
     return;
   }
   // The Slurm job is over. A worker that reported its end has already settled the job.
   const std::optional<JobRecord> now = store_.get(job.id);
-  if (!now || finished(now->status) || now->slurm_job_id != slurm_id) return;
+  if (!now || api::is_finished(now->status) || now->slurm_job_id != slurm_id) return;
   if (now->cancel_requested || record->state == "CANCELLED") {
     store_.mark_cancelled(job.id);
     store_.log_event(job.id, "cancelled", "Slurm job " + slurm_id + " was cancelled");

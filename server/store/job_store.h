@@ -13,13 +13,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "api/job_status.h"
+
 namespace granulab::server {
+
+using api::JobStatus;
 
 namespace sqlite {
 class Database;
@@ -27,7 +32,7 @@ class Database;
 
 struct JobRecord {
   std::int64_t id = 0;
-  std::string status;  ///< queued, running, succeeded, failed, cancelled
+  JobStatus status = JobStatus::queued;
   std::string label;
   std::string experiment;
   std::string spec_json;
@@ -126,11 +131,11 @@ class JobStore {
   std::vector<SweepRecord> list_sweeps(int limit, std::int64_t offset, const std::string& owner_filter = "");
   /// The sweep's jobs, in the order of its points.
   std::vector<JobRecord> sweep_jobs(std::int64_t sweep_id);
-  /// Newest first. `status_filter` / `owner_filter` empty = any; `limit` < 0 = no limit.
-  std::vector<JobRecord> list(const std::string& status_filter, int limit, std::int64_t offset,
+  /// Newest first. `status_filter` nullopt / `owner_filter` empty = any; `limit` < 0 = no limit.
+  std::vector<JobRecord> list(std::optional<JobStatus> status_filter, int limit, std::int64_t offset,
                               const std::string& owner_filter = "");
-  /// Jobs in `status` (empty = all jobs), of `owner` when not empty.
-  std::size_t count(const std::string& status, const std::string& owner = "");
+  /// Jobs in `status` (nullopt = all jobs), of `owner` when not empty.
+  std::size_t count(std::optional<JobStatus> status, const std::string& owner = "");
 
   std::optional<std::string> curve_csv(std::int64_t id);
   std::optional<std::string> curve_json(std::int64_t id);
@@ -220,7 +225,11 @@ class JobStore {
 
  private:
   /// A job's status, or nullopt for an unknown id (the caller holds the lock).
-  std::optional<std::string> status_locked(std::int64_t id);
+  std::optional<JobStatus> status_locked(std::int64_t id);
+  /// The one finishing move (the caller holds the lock, in a transaction): `to` (succeeded, failed or
+  /// cancelled) from one of `from`, finished now, with its event; a finished job keeps no checkpoint.
+  /// False, and nothing changed, when the job is unknown or not in `from`.
+  bool finish_locked(std::int64_t id, JobStatus to, std::initializer_list<JobStatus> from, const std::string& event);
   void drop_checkpoint_locked(std::int64_t id);
   void log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message);
   std::optional<JobRecord> get_locked(std::int64_t id);

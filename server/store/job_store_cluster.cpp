@@ -80,9 +80,9 @@ bool JobStore::mark_running(std::int64_t id, const std::string& slurm_job_id) {
                "AND (?3 = '' OR slurm_job_id = ?3)");
   st.bind(1, id).bind(2, now_ms()).bind(3, slurm_job_id).run();
   if (db_->changes() > 0) log_event_locked(id, "started", "on the cluster");
-  const std::optional<std::string> status = status_locked(id);
+  const std::optional<JobStatus> status = status_locked(id);
   tx.commit();
-  return status && *status == "running";
+  return status == JobStatus::running;
 }
 
 JobStore::Requeue JobStore::requeue_for_cluster(std::int64_t id, const std::string& reason, int max_attempts) {
@@ -101,10 +101,10 @@ JobStore::Requeue JobStore::requeue_for_cluster(std::int64_t id, const std::stri
   if (cancel || attempts >= max_attempts) {
     const std::string error = cancel ? "" : reason + "; it had " + std::to_string(attempts) +
                                                 " Slurm jobs, the most one job may have (JobStore::kMaxSlurmAttempts)";
-    Statement st(*db_, "UPDATE jobs SET status = ?2, error = ?3, eta_seconds = -1, finished_ms = ?4 WHERE id = ?1");
-    st.bind(1, id).bind(2, cancel ? "cancelled" : "failed").bind(3, error).bind(4, now_ms()).run();
-    log_event_locked(id, cancel ? "cancelled" : "failed", cancel ? "cancel requested before it could be requeued" : error);
-    drop_checkpoint_locked(id);  // a finished job is never resumed
+    finish_locked(id, cancel ? JobStatus::cancelled : JobStatus::failed, {JobStatus::queued, JobStatus::running},
+                  cancel ? "cancel requested before it could be requeued" : error);
+    Statement st(*db_, "UPDATE jobs SET error = ?2 WHERE id = ?1");
+    st.bind(1, id).bind(2, error).run();
     tx.commit();
     return cancel ? Requeue::cancelled : Requeue::failed;
   }

@@ -68,7 +68,7 @@ TEST_F(OneGroup, TheSweepRoutesAloneCreateListAndCancelSweepsInTheStore) {
   mount_sweep_routes(router, context);
   const json created = call("POST", "/v1/sweeps", kSweep, "t-ann", 201);
   ASSERT_EQ(created["jobs"].size(), 2u);
-  EXPECT_EQ(store.count("queued", "ann"), 2u);
+  EXPECT_EQ(store.count(JobStatus::queued, "ann"), 2u);
   EXPECT_EQ(executor.notified, 1);
   const std::string path = "/v1/sweeps/" + std::to_string(created["id"].get<std::int64_t>());
   EXPECT_EQ(call("GET", path, "", "t-bob", 200)["counts"]["queued"], 2);
@@ -78,7 +78,7 @@ TEST_F(OneGroup, TheSweepRoutesAloneCreateListAndCancelSweepsInTheStore) {
   EXPECT_EQ(call("GET", "/v1/sweeps", "", "nobody", 401)["error"]["code"], "unauthorized");
   EXPECT_EQ(call("GET", "/v1/sweeps?bogus=1", "", "t-ann", 400)["error"]["field"], "bogus");
   EXPECT_EQ(call("POST", path + "/cancel", "", "t-ann", 200)["cancelled"], 2);
-  EXPECT_EQ(store.count("cancelled", "ann"), 2u);
+  EXPECT_EQ(store.count(JobStatus::cancelled, "ann"), 2u);
   EXPECT_EQ(executor.cancels, 2);
   // No other group is there: the job routes were not mounted.
   EXPECT_EQ(call("GET", "/v1/jobs", "", "t-ann", 404)["error"]["message"], "no such route");

@@ -128,7 +128,7 @@ TEST(JobStore, SubmitStoresEveryField) {
   const auto job = store.get(id);
   ASSERT_TRUE(job);
   EXPECT_EQ(job->id, id);
-  EXPECT_EQ(job->status, "queued");
+  EXPECT_EQ(job->status, JobStatus::queued);
   EXPECT_EQ(job->spec_json, R"({"experiment":"crystal_compression"})");
   EXPECT_EQ(job->experiment, "crystal_compression");
   EXPECT_EQ(job->label, "ref p0=60kPa");
@@ -159,15 +159,15 @@ TEST(JobStore, ClaimTakesHighestPriorityThenOldest) {
   const auto f = submit_job(store, "f", 0);
   std::vector<std::int64_t> order;
   while (auto job = store.claim_next()) {
-    EXPECT_EQ(job->status, "running");
+    EXPECT_EQ(job->status, JobStatus::running);
     EXPECT_GT(job->started_ms, 0);
-    EXPECT_EQ(store.get(job->id)->status, "running");
+    EXPECT_EQ(store.get(job->id)->status, JobStatus::running);
     order.push_back(job->id);
   }
   EXPECT_EQ(order, (std::vector<std::int64_t>{b, d, a, c, f, e}));
   EXPECT_FALSE(store.claim_next());
-  EXPECT_EQ(store.count("running"), 6u);
-  EXPECT_EQ(store.count("queued"), 0u);
+  EXPECT_EQ(store.count(JobStatus::running), 6u);
+  EXPECT_EQ(store.count(JobStatus::queued), 0u);
 }
 
 TEST(JobStore, ClaimSkipsCancelledJobs) {
@@ -240,8 +240,8 @@ void claim_concurrently(const std::string& path, int connections) {
 
   std::sort(claimed.begin(), claimed.end());
   EXPECT_EQ(claimed, submitted);  // sorted ids: each exactly once, none missing
-  EXPECT_EQ(stores[0]->count("running"), static_cast<std::size_t>(kJobs));
-  EXPECT_EQ(stores[0]->count("queued"), 0u);
+  EXPECT_EQ(stores[0]->count(JobStatus::running), static_cast<std::size_t>(kJobs));
+  EXPECT_EQ(stores[0]->count(JobStatus::queued), 0u);
 }
 
 TEST(JobStore, ConcurrentClaimsOnOneStoreTakeEachJobOnce) { claim_concurrently(":memory:", 1); }
@@ -268,7 +268,7 @@ TEST(JobStore, ProgressThenSucceed) {
 
   EXPECT_TRUE(store.succeed(id, R"({"steps":10})", "a,b\n1,2\n", R"({"a":[1]})"));
   const auto job = store.get(id);
-  EXPECT_EQ(job->status, "succeeded");
+  EXPECT_EQ(job->status, JobStatus::succeeded);
   EXPECT_EQ(job->progress, 1.0);
   EXPECT_EQ(job->summary_json, R"({"steps":10})");
   EXPECT_GE(job->finished_ms, job->started_ms);
@@ -281,7 +281,7 @@ TEST(JobStore, ProgressThenSucceed) {
   EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
   store.set_progress(id, 0.1, 1.0);
   EXPECT_EQ(store.get(id)->progress, 1.0);
-  EXPECT_EQ(store.get(id)->status, "succeeded");
+  EXPECT_EQ(store.get(id)->status, JobStatus::succeeded);
   EXPECT_EQ(store.get(id)->summary_json, R"({"steps":10})");
 
   const std::vector<std::string> expected = {"started: ", "succeeded: "};
@@ -294,7 +294,7 @@ TEST(JobStore, SucceedNeedsARunningJob) {
   JobStore store(":memory:");
   const auto id = submit_job(store, "x");
   EXPECT_FALSE(store.succeed(id, "{}", "csv", "json"));
-  EXPECT_EQ(store.get(id)->status, "queued");
+  EXPECT_EQ(store.get(id)->status, JobStatus::queued);
   EXPECT_FALSE(store.curve_csv(id));  // nothing half-written
   EXPECT_FALSE(store.succeed(999, "{}", "", ""));
 }
@@ -305,7 +305,7 @@ TEST(JobStore, Fail) {
   store.claim_next();
   EXPECT_TRUE(store.fail(id, "contact solver diverged at step 42"));
   const auto job = store.get(id);
-  EXPECT_EQ(job->status, "failed");
+  EXPECT_EQ(job->status, JobStatus::failed);
   EXPECT_EQ(job->error, "contact solver diverged at step 42");
   EXPECT_GT(job->finished_ms, 0);
   EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
@@ -319,7 +319,7 @@ TEST(JobStore, CancelQueuedIsImmediate) {
   const auto id = submit_job(store, "x");
   EXPECT_EQ(store.request_cancel(id), CancelResult::cancelled_queued);
   const auto job = store.get(id);
-  EXPECT_EQ(job->status, "cancelled");
+  EXPECT_EQ(job->status, JobStatus::cancelled);
   EXPECT_GT(job->finished_ms, 0);
   EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
   EXPECT_EQ(store.request_cancel(id + 100), CancelResult::not_found);
@@ -333,12 +333,12 @@ TEST(JobStore, CancelRunningIsARequestTheWorkerHonours) {
   EXPECT_FALSE(store.cancel_requested(id));
   EXPECT_EQ(store.request_cancel(id), CancelResult::requested_running);
   EXPECT_TRUE(store.cancel_requested(id));
-  EXPECT_EQ(store.get(id)->status, "running");  // until the worker stops
+  EXPECT_EQ(store.get(id)->status, JobStatus::running);  // until the worker stops
   EXPECT_TRUE(store.get(id)->cancel_requested);
   EXPECT_EQ(store.request_cancel(id), CancelResult::requested_running);  // asking twice is harmless
 
   EXPECT_TRUE(store.mark_cancelled(id));
-  EXPECT_EQ(store.get(id)->status, "cancelled");
+  EXPECT_EQ(store.get(id)->status, JobStatus::cancelled);
   EXPECT_GT(store.get(id)->finished_ms, 0);
   EXPECT_EQ(store.request_cancel(id), CancelResult::wrong_state);
   EXPECT_FALSE(store.mark_cancelled(id));
@@ -367,7 +367,7 @@ TEST_F(StoreFileTest, FailureMidwayLeavesNoTrace) {
     EXPECT_NE(std::string(e.what()).find("disk on fire"), std::string::npos) << e.what();
   }
   auto job = store.get(id);
-  EXPECT_EQ(job->status, "running");
+  EXPECT_EQ(job->status, JobStatus::running);
   EXPECT_TRUE(job->summary_json.empty());
   EXPECT_EQ(job->finished_ms, 0);
   EXPECT_EQ(store.events(id).size(), 2u);  // submitted, started: no "succeeded"
@@ -377,7 +377,7 @@ TEST_F(StoreFileTest, FailureMidwayLeavesNoTrace) {
     db.exec("DROP TRIGGER no_curves");
   }
   EXPECT_TRUE(store.succeed(id, R"({"steps":1})", "csv", "json"));  // the connection is usable again
-  EXPECT_EQ(store.get(id)->status, "succeeded");
+  EXPECT_EQ(store.get(id)->status, JobStatus::succeeded);
 }
 
 // ------------------------------------------------------------------------------------------- results
@@ -479,36 +479,35 @@ TEST(JobStore, ListNewestFirstWithFilterAndPaging) {
   ASSERT_EQ(running->id, ids[2]);
   store.request_cancel(ids[4]);
 
-  const auto all = store.list("", -1, 0);
+  const auto all = store.list(std::nullopt, -1, 0);
   ASSERT_EQ(all.size(), 7u);
   for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(all[i].id, ids[6 - i]);
   EXPECT_EQ(all[0].label, "job 6");
 
-  const auto queued = store.list("queued", 100, 0);
+  const auto queued = store.list(JobStatus::queued, 100, 0);
   std::vector<std::int64_t> queued_ids;
   for (const auto& job : queued) queued_ids.push_back(job.id);
   EXPECT_EQ(queued_ids, (std::vector<std::int64_t>{ids[6], ids[5], ids[3], ids[1], ids[0]}));
-  ASSERT_EQ(store.list("running", 10, 0).size(), 1u);
-  EXPECT_EQ(store.list("running", 10, 0)[0].id, ids[2]);
-  ASSERT_EQ(store.list("cancelled", 10, 0).size(), 1u);
-  EXPECT_TRUE(store.list("succeeded", 10, 0).empty());
-  EXPECT_TRUE(store.list("no-such-status", 10, 0).empty());
+  ASSERT_EQ(store.list(JobStatus::running, 10, 0).size(), 1u);
+  EXPECT_EQ(store.list(JobStatus::running, 10, 0)[0].id, ids[2]);
+  ASSERT_EQ(store.list(JobStatus::cancelled, 10, 0).size(), 1u);
+  EXPECT_TRUE(store.list(JobStatus::succeeded, 10, 0).empty());
 
-  const auto page = store.list("", 2, 2);
+  const auto page = store.list(std::nullopt, 2, 2);
   ASSERT_EQ(page.size(), 2u);
   EXPECT_EQ(page[0].id, ids[4]);
   EXPECT_EQ(page[1].id, ids[3]);
-  const auto queued_page = store.list("queued", 2, 4);
+  const auto queued_page = store.list(JobStatus::queued, 2, 4);
   ASSERT_EQ(queued_page.size(), 1u);
   EXPECT_EQ(queued_page[0].id, ids[0]);
-  EXPECT_TRUE(store.list("", 10, 7).empty());
-  EXPECT_TRUE(store.list("", 0, 0).empty());
+  EXPECT_TRUE(store.list(std::nullopt, 10, 7).empty());
+  EXPECT_TRUE(store.list(std::nullopt, 0, 0).empty());
 
-  EXPECT_EQ(store.count(""), 7u);
-  EXPECT_EQ(store.count("queued"), 5u);
-  EXPECT_EQ(store.count("running"), 1u);
-  EXPECT_EQ(store.count("cancelled"), 1u);
-  EXPECT_EQ(store.count("failed"), 0u);
+  EXPECT_EQ(store.count(std::nullopt), 7u);
+  EXPECT_EQ(store.count(JobStatus::queued), 5u);
+  EXPECT_EQ(store.count(JobStatus::running), 1u);
+  EXPECT_EQ(store.count(JobStatus::cancelled), 1u);
+  EXPECT_EQ(store.count(JobStatus::failed), 0u);
 }
 
 // ----------------------------------------------------------------------------- durability, recovery
@@ -525,7 +524,7 @@ TEST_F(StoreFileTest, CancelRequestedBeforeAStopIsHonouredAtRestart) {
   }
   JobStore store(path_);
   EXPECT_EQ(store.requeue_running(), 0u);
-  EXPECT_EQ(store.get(job)->status, "cancelled");
+  EXPECT_EQ(store.get(job)->status, JobStatus::cancelled);
   EXPECT_GT(store.get(job)->finished_ms, 0);
   EXPECT_EQ(store.snapshots(job).size(), 1u);  // what it computed is kept, as for any cancel
   EXPECT_FALSE(store.claim_next());            // and it is not run again
@@ -548,10 +547,10 @@ TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
     // The store object goes away with the job still running: the daemon died.
   }
   JobStore store(path_);
-  EXPECT_EQ(store.get(interrupted)->status, "running");
+  EXPECT_EQ(store.get(interrupted)->status, JobStatus::running);
   EXPECT_EQ(store.requeue_running(), 1u);
   const auto job = store.get(interrupted);
-  EXPECT_EQ(job->status, "queued");
+  EXPECT_EQ(job->status, JobStatus::queued);
   EXPECT_EQ(job->progress, 0.0);
   EXPECT_EQ(job->started_ms, 0);
   EXPECT_FALSE(job->cancel_requested);
@@ -560,9 +559,9 @@ TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
   ASSERT_EQ(store.events(0).size(), 1u);
   EXPECT_EQ(store.events(0)[0].rfind("requeued: 1 ", 0), 0u);
   // Everything else is as it was.
-  EXPECT_EQ(store.get(done)->status, "succeeded");
+  EXPECT_EQ(store.get(done)->status, JobStatus::succeeded);
   EXPECT_EQ(store.curve_csv(done), "csv");
-  EXPECT_EQ(store.get(waiting)->status, "queued");
+  EXPECT_EQ(store.get(waiting)->status, JobStatus::queued);
 
   EXPECT_EQ(store.requeue_running(), 0u);
   ASSERT_EQ(store.claim_next()->id, interrupted);  // keeps its place: older than "waiting"
@@ -586,11 +585,11 @@ TEST_F(StoreDeathTest, RequeueRunningAfterRealCrash) {
       },
       ::testing::ExitedWithCode(3), "");
   JobStore store(path_);
-  EXPECT_EQ(store.get(1)->status, "running");
+  EXPECT_EQ(store.get(1)->status, JobStatus::running);
   EXPECT_EQ(store.get(1)->progress, 0.5);
   EXPECT_EQ(store.requeue_running(), 1u);
-  EXPECT_EQ(store.get(1)->status, "queued");
-  EXPECT_EQ(store.get(2)->status, "queued");
+  EXPECT_EQ(store.get(1)->status, JobStatus::queued);
+  EXPECT_EQ(store.get(2)->status, JobStatus::queued);
   EXPECT_EQ(store.events(1).back().rfind("requeued: ", 0), 0u);
   EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
 }
@@ -605,7 +604,7 @@ TEST_F(StoreFileTest, MigrationsAreIdempotentAndTheFileIsHealthy) {
     JobStore again(path_);  // migrations run again: nothing to do, nothing lost
     EXPECT_EQ(again.get(id)->label, "kept");
     JobStore concurrently(path_);  // a second connection while the first is open
-    EXPECT_EQ(concurrently.count(""), 1u);
+    EXPECT_EQ(concurrently.count(std::nullopt), 1u);
   }
   EXPECT_EQ(query("PRAGMA user_version"), std::to_string(schema_version_latest()));
   EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
@@ -670,7 +669,7 @@ TEST(JobStoreCluster, ASlurmJobIsGivenOnceAndOnlyItsOwnStateLands) {
   EXPECT_EQ(store.get(id)->slurm_state, "RUNNING");
   EXPECT_EQ(store.requeue_for_cluster(id, "time limit"), JobStore::Requeue::requeued);
   const auto back = store.get(id);
-  EXPECT_EQ(back->status, "queued");
+  EXPECT_EQ(back->status, JobStatus::queued);
   EXPECT_EQ(back->slurm_job_id, "");
   EXPECT_EQ(back->slurm_attempts, 1);
   EXPECT_EQ(store.unsubmitted(10).size(), 1u);
@@ -686,7 +685,7 @@ TEST(JobStoreCluster, ARequeueHonoursACancelAndTheLimitOfSlurmJobs) {
   ASSERT_TRUE(store.mark_running(cancelled, "7"));
   ASSERT_EQ(store.request_cancel(cancelled), JobStore::CancelResult::requested_running);
   EXPECT_EQ(store.requeue_for_cluster(cancelled, "signal USR1"), JobStore::Requeue::cancelled);
-  EXPECT_EQ(store.get(cancelled)->status, "cancelled");
+  EXPECT_EQ(store.get(cancelled)->status, JobStatus::cancelled);
 
   const auto endless = submit();
   for (int k = 0; k < 3; ++k) {
@@ -694,7 +693,7 @@ TEST(JobStoreCluster, ARequeueHonoursACancelAndTheLimitOfSlurmJobs) {
     ASSERT_EQ(store.requeue_for_cluster(endless, "time limit", 3), k < 2 ? JobStore::Requeue::requeued : JobStore::Requeue::failed);
   }
   const auto failed = store.get(endless);
-  EXPECT_EQ(failed->status, "failed");
+  EXPECT_EQ(failed->status, JobStatus::failed);
   EXPECT_NE(failed->error.find("3 Slurm jobs"), std::string::npos) << failed->error;
   EXPECT_NE(failed->error.find("kMaxSlurmAttempts"), std::string::npos) << failed->error;
   EXPECT_EQ(store.requeue_for_cluster(endless, "again"), JobStore::Requeue::not_active);
@@ -707,10 +706,10 @@ TEST(JobStoreCluster, ALocalStartTakesClusterJobsBackAndRevokesTheirWorkers) {
   ASSERT_TRUE(store.set_slurm_job(id, "5"));
   ASSERT_TRUE(store.mark_running(id, "5"));
   EXPECT_EQ(store.requeue_running(/*keep_cluster_jobs=*/true), 0u);  // the Slurm executor follows it again
-  EXPECT_EQ(store.get(id)->status, "running");
+  EXPECT_EQ(store.get(id)->status, JobStatus::running);
   EXPECT_EQ(store.worker_secrets().size(), 1u);
   EXPECT_EQ(store.requeue_running(/*keep_cluster_jobs=*/false), 1u);  // the local pool takes it
-  EXPECT_EQ(store.get(id)->status, "queued");
+  EXPECT_EQ(store.get(id)->status, JobStatus::queued);
   EXPECT_EQ(store.get(id)->slurm_job_id, "");
   EXPECT_EQ(store.worker_token(id), "");
 }
