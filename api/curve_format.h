@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/experiments/result_sink.h"
+#include "engine/framework/result_sink.h"
 
 namespace granulab::api {
 

@@ -1,5 +1,5 @@
 // The sink a whole job writes to: what an experiment streams while it runs (curve rows, snapshots,
-// progress: engine/experiments/result_sink.h), plus the curve's columns before it starts and the
+// progress: engine/framework/result_sink.h), plus the curve's columns before it starts and the
 // summary when it ends. The CLI writes files through one, the server its store, tests memory.
 #pragma once
 
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/experiments/result_sink.h"
+#include "engine/framework/result_sink.h"
 
 namespace granulab::api {
 

@@ -1,5 +1,7 @@
 #include "api/spec_docs.h"
 
+#include "api/headline_json.h"
+
 #include <map>
 #include <sstream>
 
@@ -22,7 +24,7 @@ class FieldDescriber : public ParameterVisitor {
 
   void section(const char* name) override { section_ = name; }
   void number(const char* key, double& value, Range r, const char* unit, const char* meaning) override {
-    add(key, "number", value, unit, meaning).update({{"minimum", r.lo}, {"maximum", r.hi}, {"exclusive_minimum", r.lo_open}});
+    bounded(add(key, "number", value, unit, meaning), r);
   }
   void integer(const char* key, int& value, long lo, long hi, const char* meaning) override {
     add(key, "integer", value, "-", meaning).update({{"minimum", lo}, {"maximum", hi}});
@@ -35,14 +37,13 @@ class FieldDescriber : public ParameterVisitor {
   }
   void numbers(const char* key, std::vector<double>& values, Range r, std::size_t max_items, const char* unit,
                const char* meaning) override {
-    add(key, "array of numbers", values, unit, meaning)
-        .update({{"minimum", r.lo}, {"maximum", r.hi}, {"exclusive_minimum", r.lo_open}, {"max_items", max_items}});
+    bounded(add(key, "array of numbers", values, unit, meaning), r)["max_items"] = max_items;
   }
-  void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, std::size_t max_items,
-                 const char* meaning) override {
-    (void)values;
+  void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char* last_is,
+                 std::size_t max_items, const char* meaning) override {
+    (void)values, (void)last;
     add(key, "array of grain ids", nlohmann::json::array(), "-", meaning)
-        .update({{"minimum", 0}, {"maximum", last}, {"max_items", max_items}});
+        .update({{"minimum", 0}, {"maximum_is", last_is}, {"max_items", max_items}});
   }
   std::size_t begin_list(const char* key, std::size_t max_items, const char* meaning) override {
     add(key, "array of objects", nlohmann::json::array(), "", meaning)["max_items"] = max_items;
@@ -55,6 +56,13 @@ class FieldDescriber : public ParameterVisitor {
   void require(bool, const char*, const std::string&) override {}
 
  private:
+  // A bound that depends on another field is stated in words ("maximum_is"), never as the default's number.
+  static nlohmann::json& bounded(nlohmann::json& f, const Range& r) {
+    f.update({{"minimum", r.lo}, {"exclusive_minimum", r.lo_open}});
+    if (r.hi_is) f["maximum_is"] = r.hi_is;
+    else f["maximum"] = r.hi;
+    return f;
+  }
   nlohmann::json& add(const char* key, const char* type, nlohmann::json value, const char* unit, const char* meaning) {
     std::string name = in_item_ ? list_ + "[]." + key : key;
     if (!section_.empty()) name = section_ + "." + name;
@@ -74,7 +82,8 @@ std::string allowed_text(const nlohmann::json& f) {
   if (f.contains("max_length")) return "at most " + std::to_string(f["max_length"].get<std::size_t>()) + " characters";
   if (!f.contains("minimum")) return "";
   const bool open = f.value("exclusive_minimum", false);
-  std::string s = std::string(open ? "(" : "[") + fmt(f["minimum"].get<double>()) + ", " + fmt(f["maximum"].get<double>()) + "]";
+  const std::string hi = f.contains("maximum") ? fmt(f["maximum"].get<double>()) : f["maximum_is"].get<std::string>();
+  std::string s = std::string(open ? "(" : "[") + fmt(f["minimum"].get<double>()) + ", " + hi + "]";
   if (f.contains("max_items")) s += ", at most " + std::to_string(f["max_items"].get<std::size_t>()) + " values";
   return s;
 }
@@ -104,7 +113,11 @@ nlohmann::json experiments_json() {
     nlohmann::json columns = nlohmann::json::array();
     for (const CurveColumn& c : e->curve_columns())
       columns.push_back({{"name", c.name}, {"unit", c.unit}, {"meaning", c.meaning}});
-    list.push_back({{"name", t.name}, {"title", t.title}, {"fields", d.fields}, {"curve_columns", columns}});
+    list.push_back({{"name", t.name},
+                    {"title", t.title},
+                    {"fields", d.fields},
+                    {"curve_columns", columns},
+                    {"headline", headline_json(e->headline())}});
   }
   return {{"experiments", list}};
 }
@@ -116,14 +129,16 @@ nlohmann::json field_schema(const nlohmann::json& f, const nlohmann::json& items
   using nlohmann::json;
   const std::string type = f["type"];
   const std::string unit = f.value("unit", "");
-  json s = {{"description", f["meaning"].get<std::string>() + (unit.empty() || unit == "-" ? "" : " (" + unit + ")")},
+  // A bound that depends on another field is in the words, not a false maximum.
+  const std::string depends = f.contains("maximum_is") ? "; at most " + f["maximum_is"].get<std::string>() : "";
+  json s = {{"description", f["meaning"].get<std::string>() + (unit.empty() || unit == "-" ? "" : " (" + unit + ")") + depends},
             {"default", f["default"]}};
   if (!unit.empty()) s["x-unit"] = unit;
   auto bounds = [&](json& target) {
     if (!f.contains("minimum")) return;
     if (f.value("exclusive_minimum", false)) target["exclusiveMinimum"] = f["minimum"];
     else target["minimum"] = f["minimum"];
-    target["maximum"] = f["maximum"];
+    if (f.contains("maximum")) target["maximum"] = f["maximum"];
   };
   if (type == "number" || type == "integer") {
     s["type"] = json::array({type, "null"});
@@ -169,10 +184,15 @@ nlohmann::json spec_schemas_json() {
       const auto dot = field.find('.');
       json schema = field_schema(f, items[field]);
       if (field == "experiment") {
-        // Which schema a spec follows; only the default experiment may leave it out.
-        schema = {{"const", name}, {"description", "the experiment"}};
-        if (f["default"] == name) schema["default"] = name;
-        else spec["required"] = json::array({"experiment"});
+        // Which schema a spec follows; only the default experiment (the registry's first) may leave it
+        // out or give null.
+        if (name == described["experiments"][0]["name"]) {
+          schema = {{"enum", json::array({name, nullptr})}, {"default", name},
+                    {"description", "the experiment (left out or null: this one, the default)"}};
+        } else {
+          schema = {{"const", name}, {"description", "the experiment"}};
+          spec["required"] = json::array({"experiment"});
+        }
         spec["properties"]["experiment"] = schema;
         continue;
       }

@@ -1,7 +1,10 @@
 #include "server/job_views.h"
 
+#include <algorithm>
+
 #include "api/curve_format.h"
 #include "api/pictures/curve_pictures.h"
+#include "server/http/replies.h"
 
 namespace granulab::server {
 
@@ -73,14 +76,32 @@ std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {
   return api::curve_csv_to_json(*csv);
 }
 
-std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job) {
+std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job, const pictures::CurveChoice& choice) {
   const auto curve = curve_columns(store, job);
   if (!curve) return std::nullopt;
   pictures::LinePlot plot =
-      pictures::job_curve_plot(parsed_or_null(job.spec_json), *curve, parsed_or_null(job.summary_json));
+      pictures::job_curve_plot(parsed_or_null(job.spec_json), *curve, parsed_or_null(job.summary_json), choice);
   plot.title = job.label.empty() ? "job " + std::to_string(job.id) : job.label;
   if (job.status != JobStatus::succeeded) plot.title += std::string(" (") + api::status_name(job.status) + ")";
   return pictures::line_plot_svg(plot);
+}
+
+bool curve_choice(const http::Request& req, http::Response& res, const json& spec, pictures::CurveChoice& choice) {
+  const std::string units = req.has_param("units") ? req.get_param_value("units") : "natural";
+  if (units != "natural" && units != "si") {
+    http::error(res, 400, "invalid_value", "'units' must be natural or si, got '" + units + "'", "units");
+    return false;
+  }
+  choice.units = units == "si" ? pictures::Units::si : pictures::Units::natural;
+  if (!req.has_param("y")) return true;
+  choice.y = req.get_param_value("y");
+  const std::vector<std::string> names = pictures::curve_column_names(spec);
+  if (std::find(names.begin(), names.end(), choice.y) != names.end()) return true;
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  http::error(res, 400, "invalid_value", "'y' must be a curve column of this experiment (" + list + "), got '" + choice.y + "'",
+              "y");
+  return false;
 }
 
 }  // namespace granulab::server

@@ -37,6 +37,7 @@ std::string line_plot_svg(const LinePlot& plot) {
   const double H = plot.height;
   std::size_t in_legend = 0, longest = 0;
   for (const Series& s : plot.series) in_legend += !s.label.empty(), longest = std::max(longest, s.label.size());
+  for (const Marker& m : plot.markers) in_legend += 1, longest = std::max(longest, m.label.size() + 4);
   // About 7 px per character of 12 px text, within limits.
   const double legend_width = std::clamp(50.0 + 7.0 * double(longest), 120.0, 360.0);
   const double left = 78, right = in_legend ? legend_width : 24, top = plot.note.empty() ? 40 : 56, bottom = 56;
@@ -46,7 +47,8 @@ std::string line_plot_svg(const LinePlot& plot) {
   Range xr, yr;
   for (const Series& s : plot.series)
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) xr.add(s.x[i]), yr.add(s.y[i]);
-  for (const Marker& m : plot.markers) xr.add(m.x), yr.add(m.y);
+  for (const Marker& m : plot.markers)
+    if (m.on_curve) xr.add(m.x), yr.add(m.y);
   xr.settle(), yr.settle();
   // Stresses and forces start from zero: include it when the data are not far from it.
   if (yr.lo > 0 && yr.lo < 0.5 * yr.hi) yr.lo = 0;
@@ -114,10 +116,14 @@ std::string line_plot_svg(const LinePlot& plot) {
            (s.dashed ? " stroke-dasharray=\"7 5\"" : "") + " points=\"" + points + "\"/>\n";
   }
   svg += "</g>\n";
-  for (const Marker& m : plot.markers) {
-    svg += "<g class=\"marker\"><circle cx=\"" + num(X(m.x)) + "\" cy=\"" + num(Y(m.y)) +
-           "\" r=\"5\" fill=\"none\" stroke=\"#c00\" stroke-width=\"2\"/><text x=\"" + num(X(m.x) + 8) + "\" y=\"" +
-           num(Y(m.y) - 8) + "\" fill=\"#c00\">" + xml_escape(m.label) + "</text></g>\n";
+  // Markers: a circle and its number on the curve; the words are in the legend.
+  for (std::size_t k = 0; k < plot.markers.size(); ++k) {
+    const Marker& m = plot.markers[k];
+    if (!m.on_curve) continue;
+    svg += "<g class=\"marker\" data-label=\"" + xml_escape(m.label) + "\"><circle cx=\"" + num(X(m.x)) + "\" cy=\"" +
+           num(Y(m.y)) + "\" r=\"6\" fill=\"white\" stroke=\"#c00\" stroke-width=\"1.5\"/><text x=\"" + num(X(m.x)) +
+           "\" y=\"" + num(Y(m.y) + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
+           std::to_string(k + 1) + "</text></g>\n";
   }
   // Legend, right of the plot.
   if (in_legend) {
@@ -129,6 +135,15 @@ std::string line_plot_svg(const LinePlot& plot) {
       svg += "<line x1=\"" + num(left + pw + 12) + "\" y1=\"" + num(y) + "\" x2=\"" + num(left + pw + 38) + "\" y2=\"" +
              num(y) + "\" stroke=\"" + colours[i] + "\" stroke-width=\"2\"" + (s.dashed ? " stroke-dasharray=\"7 5\"" : "") +
              "/><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" + xml_escape(s.label) + "</text>\n";
+      y += 18;
+    }
+    for (std::size_t k = 0; k < plot.markers.size(); ++k) {
+      const Marker& m = plot.markers[k];
+      const double cx = left + pw + 25;
+      svg += "<circle cx=\"" + num(cx) + "\" cy=\"" + num(y) + "\" r=\"6\" fill=\"white\" stroke=\"#c00\" stroke-width=\"1.5\"/>"
+             "<text x=\"" + num(cx) + "\" y=\"" + num(y + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
+             std::to_string(k + 1) + "</text><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" +
+             xml_escape(m.label) + "</text>\n";
       y += 18;
     }
     svg += "</g>\n";

@@ -15,9 +15,12 @@ struct Series {
   bool dashed = false;
 };
 
+/// A named value: in the legend, numbered, and, when it is a point of a curve, circled there with its
+/// number (its text never lies over the curves).
 struct Marker {
   double x = 0, y = 0;
   std::string label;
+  bool on_curve = true;
 };
 
 struct LinePlot {

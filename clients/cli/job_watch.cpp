@@ -1,5 +1,6 @@
 #include "clients/cli/job_watch.h"
 
+#include "api/headline_json.h"
 #include "api/job_status.h"
 
 #include <unistd.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <map>
@@ -40,9 +42,14 @@ double number(const json& j, const char* key, double fallback = 0) {
   return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
 }
 
+// The same at a dotted path ("first_yield.strain").
+double number_at(const json& j, const std::string& dotted, double fallback = 0) {
+  return api::number_at_path(j, dotted).value_or(fallback);
+}
+
 }  // namespace
 
-std::string job_line(const json& job, int bar_width) {
+std::string job_line(const json& job, const json& headline, int bar_width) {
   const std::string status = job.contains("status") && job["status"].is_string() ? job["status"].get<std::string>() : "?";
   const double progress = std::clamp(number(job, "progress"), 0.0, 1.0);
   const int filled = int(progress * bar_width + 0.5);
@@ -55,21 +62,45 @@ std::string job_line(const json& job, int bar_width) {
   // On a cluster, while it waits there: Slurm's word on why (e.g. "Slurm 123: PENDING (Resources)").
   if (status == api::status_name(api::JobStatus::queued) && job.contains("slurm_state") && job["slurm_state"].is_string())
     line += "  Slurm " + job.value("slurm_job_id", std::string("?")) + ": " + job["slurm_state"].get<std::string>();
-  // The latest strain and stress of a running job, the first yield of a finished crystal.
-  if (job.contains("latest") && job["latest"].is_object()) {
-    const json& l = job["latest"];
-    char text[96];
-    if (l.contains("strain")) std::snprintf(text, sizeof text, "  strain %.3g %%", 100 * number(l, "strain")), line += text;
-    if (l.contains("deviator")) std::snprintf(text, sizeof text, "  deviator %.4g kPa", number(l, "deviator") / 1e3), line += text;
-    if (l.contains("tangential_over_p0"))
-      std::snprintf(text, sizeof text, "  u/l %.3g  T/P0 %.3g", number(l, "slide_over_size"), number(l, "tangential_over_p0")),
-          line += text;
-  }
-  if (job.contains("summary") && job["summary"].contains("first_yield")) {
-    const json& y = job["summary"]["first_yield"];
-    char text[96];
-    std::snprintf(text, sizeof text, "  first yield %.3g p0 at %.3g %%", number(y, "deviator_over_p0"), 100 * number(y, "strain"));
-    line += text;
+  // The latest x and first series of a running job, the key values of a finished one, in natural units.
+  if (headline.is_object()) {
+    const json spec = job.value("spec", json::object());
+    char text[160];
+    const auto reading = [&](const json& axis, double value) {
+      const json scale = axis.value("natural", json::object());
+      double v = value * scale.value("factor", 1.0);
+      if (scale.contains("per_field") && scale["per_field"].is_string()) {
+        const double per = number_at(spec, scale["per_field"].get<std::string>());
+        if (!(per > 0)) return std::string();
+        v /= per;
+      }
+      std::snprintf(text, sizeof text, "%.3g %s", v, scale.value("unit", std::string()).c_str());
+      return std::string(text);
+    };
+    const json x = headline.value("x", json::object()), y = headline.value("y", json::object());
+    const json series = headline.value("series", json::array());
+    if (job.contains("latest") && job["latest"].is_object()) {
+      const json& l = job["latest"];
+      const std::string xc = x.value("column", std::string());
+      if (l.contains(xc) && l[xc].is_number()) line += "  " + x.value("label", xc) + " " + reading(x, l[xc].get<double>());
+      if (!series.empty()) {
+        const std::string yc = series[0].value("column", std::string());
+        if (l.contains(yc) && l[yc].is_number()) line += "  " + series[0].value("label", yc) + " " + reading(y, l[yc].get<double>());
+      }
+    }
+    const json summary = job.value("summary", json());
+    for (const json& v : headline.value("values", json::array())) {
+      const double value = number_at(summary, v.value("key", std::string()), NAN);
+      if (!std::isfinite(value)) continue;
+      const std::string unit = v.value("unit", std::string());
+      std::snprintf(text, sizeof text, "  %s %.3g%s", v.value("label", std::string()).c_str(), value,
+                    unit == "-" ? "" : (" " + unit).c_str());
+      line += text;
+      if (v.contains("at_x") && v["at_x"].is_string()) {
+        const double at = number_at(summary, v["at_x"].get<std::string>(), NAN);
+        if (std::isfinite(at)) line += " at " + reading(x, at);
+      }
+    }
   }
   if (job.contains("error") && job["error"].is_string()) line += "  " + job["error"].get<std::string>();
   if (job.contains("warnings") && job["warnings"].is_array() && !job["warnings"].empty())
@@ -77,8 +108,17 @@ std::string job_line(const json& job, int bar_width) {
   return line;
 }
 
+json headlines(const JsonGetter& get) {
+  json out = json::object();
+  const json described = get("/v1/experiments");
+  for (const json& e : described.value("experiments", json::array()))
+    if (e.contains("name") && e["name"].is_string() && e.contains("headline")) out[e["name"].get<std::string>()] = e["headline"];
+  return out;
+}
+
 int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
   interrupted = false;
+  const json known = headlines(get);
   struct sigaction action {}, previous {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
@@ -95,7 +135,8 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
     for (const std::string& id : ids) {
       if (!last.count(id) || !api::is_finished(last[id].value("status", ""))) last[id] = get("/v1/jobs/" + id);
       all_done = all_done && api::is_finished(last[id].value("status", ""));
-      lines.push_back(job_line(last[id]));
+      const std::string experiment = last[id].value("experiment", std::string());
+      lines.push_back(job_line(last[id], known.contains(experiment) ? known[experiment] : json()));
     }
     if (tty) {
       // Redraw in place: up over the previous block, each line cleared.

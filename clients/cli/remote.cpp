@@ -1,8 +1,10 @@
 #include "clients/cli/remote.h"
 
+#include "api/headline_json.h"
 #include "api/job_status.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -162,25 +164,32 @@ int run_sweep(httplib::Client& http, const Args& a) {
                a.server.c_str(), sweep.c_str(), a.server.c_str(), sweep.c_str());
   const int waited = watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, ids);
   if (waited == 130) return waited;
-  // The table: one row per job, its varied values, status, first yield and peak.
+  // The table: one row per job, its varied values, status and its experiment's key values (the headline's,
+  // with where on the curve they are), each column named by its dotted summary path with '_' for '.'.
   const json table = json::parse(call(http, a.server, "GET", "/v1/sweeps/" + sweep));
+  const json known = headlines([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); });
+  const std::string experiment =  // every point of a sweep is of the base spec's experiment
+      ids.empty() ? "" : json::parse(call(http, a.server, "GET", "/v1/jobs/" + ids[0])).value("experiment", std::string());
+  std::vector<std::string> paths;
+  if (known.contains(experiment))
+    for (const json& v : known[experiment].value("values", json::array()))
+      for (const char* k : {"key", "at_x", "at_y"})
+        if (v.contains(k) && v[k].is_string()) paths.push_back(v[k].get<std::string>());
   std::string csv = "id";
   for (const auto& [key, values] : vary.items()) csv += "," + key;
-  csv += ",status,first_yield_strain,first_yield_deviator_Pa,first_yield_over_p0,peak_strain,peak_deviator_Pa,peak_over_p0,warnings\n";
-  const auto cell = [](const json& point, const char* key) {
-    if (!point.is_object() || !point.contains(key)) return std::string();
-    char text[40];
-    if (!point[key].is_number()) return std::string();
-    std::snprintf(text, sizeof text, "%.9g", point[key].get<double>());
-    return std::string(text);
-  };
+  csv += ",status";
+  for (std::string p : paths) csv += "," + (std::replace(p.begin(), p.end(), '.', '_'), p);
+  csv += ",warnings\n";
   for (const json& j : table["jobs"]) {
     csv += std::to_string(j["id"].get<long long>());
     for (const auto& [key, values] : vary.items()) csv += "," + (j["values"].contains(key) ? j["values"][key].dump() : "");
-    const json y = j.value("first_yield", json()), p = j.value("peak", json());
-    csv += "," + j["status"].get<std::string>() + "," + cell(y, "strain") + "," + cell(y, "deviator") + "," +
-           cell(y, "deviator_over_p0") + "," + cell(p, "strain") + "," + cell(p, "deviator") + "," + cell(p, "deviator_over_p0") +
-           "," + std::to_string(j.value("warnings", json::array()).size()) + "\n";
+    csv += "," + j["status"].get<std::string>();
+    for (const std::string& p : paths) {
+      char text[40] = "";
+      if (const auto v = api::number_at_path(j, p)) std::snprintf(text, sizeof text, "%.9g", *v);
+      csv += std::string(",") + text;
+    }
+    csv += "," + std::to_string(j.value("warnings", json::array()).size()) + "\n";
     const std::string id = std::to_string(j["id"].get<long long>());
     fs::create_directories(out / id);
     if (api::is_finished(j.value("status", ""))) {

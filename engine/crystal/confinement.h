@@ -10,8 +10,8 @@
 #include <functional>
 
 #include "engine/crystal/crystal_sample.h"
-#include "engine/experiments/result_sink.h"
-#include "engine/experiments/summary_writer.h"
+#include "engine/framework/result_sink.h"
+#include "engine/framework/summary_writer.h"
 
 namespace granulab {
 

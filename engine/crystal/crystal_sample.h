@@ -11,7 +11,7 @@
 #include "engine/boundary/membrane.h"
 #include "engine/crystal/crystal_lattice.h"
 #include "engine/crystal/imperfections.h"
-#include "engine/experiments/workload.h"
+#include "engine/framework/workload.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
 

@@ -17,7 +17,7 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   v.integer("rows_z", p.rows_z, 1, 400, "rows along the compression axis (z)");
   v.integer("layers_y", p.layers_y, 1, 100, "{111} layers through the thickness (y)");
   const long last_id = long(p.grains_x) * p.rows_z * p.layers_y - 1;
-  v.grain_ids("knockout", p.knockout_ids, std::uint32_t(last_id), 100000,
+  v.grain_ids("knockout", p.knockout_ids, std::uint32_t(last_id), "crystal.grains_x x rows_z x layers_y - 1", 100000,
               "grains removed, by id (layer-major, then row, then column)");
   const std::size_t regions = v.begin_list("knockout_regions", 1000, "cylinders removed through the thickness");
   p.knockout_regions.resize(regions);

@@ -1,10 +1,10 @@
 // The spec fields of a crystal sample, shared by every crystal experiment: "grain", "material", the
 // "crystal" section, loading.confining_pressure, loading.mass_scaling, loading.wall_friction and the
-// engine knobs of "run", with the rules between them (see engine/experiments/parameters.h).
+// engine knobs of "run", with the rules between them (see engine/framework/parameters.h).
 #pragma once
 
 #include "engine/crystal/crystal_sample.h"
-#include "engine/experiments/parameters.h"
+#include "engine/framework/parameters.h"
 
 namespace granulab {
 

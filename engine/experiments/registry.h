@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/experiments/experiment.h"
+#include "engine/framework/experiment.h"
 
 namespace granulab {
 

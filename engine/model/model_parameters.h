@@ -1,9 +1,9 @@
 // The spec fields shared by every experiment built from grains of one template and one material: the
 // "grain" and "material" sections, and the engine knobs of the "run" section (see
-// engine/experiments/parameters.h for how fields are visited).
+// engine/framework/parameters.h for how fields are visited).
 #pragma once
 
-#include "engine/experiments/parameters.h"
+#include "engine/framework/parameters.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/model/model.h"
 

@@ -20,18 +20,22 @@ constexpr std::size_t max_sweep_curves = 50;  // beyond this a legend is unreada
 }  // namespace
 
 void mount_picture_routes(Router& router, const RouteContext& c) {
-  router.get(R"(/v1/jobs/(\d+)/curve\.svg)", {}, [c](const http::Request& req, http::Response& res) {
+  router.get(R"(/v1/jobs/(\d+)/curve\.svg)", {"units", "y"}, [c](const http::Request& req, http::Response& res) {
     const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
-    const auto svg = job_curve_svg(c.store, *job);
+    pictures::CurveChoice choice;
+    if (!curve_choice(req, res, parsed_or_null(job->spec_json), choice)) return;
+    const auto svg = job_curve_svg(c.store, *job, choice);
     if (!svg)
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + " and has no curve yet");
     res.set_content(*svg, "image/svg+xml");
   });
 
-  router.get(R"(/v1/sweeps/(\d+)/curves\.svg)", {}, [c](const http::Request& req, http::Response& res) {
+  router.get(R"(/v1/sweeps/(\d+)/curves\.svg)", {"units", "y"}, [c](const http::Request& req, http::Response& res) {
     const auto sweep = c.access.sweep_for(c.store, req, res, "read", false);
     if (!sweep) return;
+    pictures::CurveChoice choice;
+    if (!curve_choice(req, res, parsed_or_null(sweep->base_json), choice)) return;
     std::vector<pictures::SweepCurve> curves;
     std::size_t left_out = 0;
     for (const JobRecord& j : c.store.sweep_jobs(sweep->id)) {
@@ -42,7 +46,7 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
       curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(c.store, j).value_or(json::object()), api::status_name(j.status)});
     }
     const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
-    res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out)), "image/svg+xml");
+    res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out, choice)), "image/svg+xml");
   });
 
   router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", {"field", "slice"}, [c](const http::Request& req, http::Response& res) {

@@ -1,5 +1,6 @@
 // The sweep routes of docs/api.md ("Sweeps"): a sweep is validated whole before any of its jobs exists.
 #include "api/bounded_json.h"
+#include "api/pictures/curve_pictures.h"
 #include "api/spec.h"
 #include "api/sweep.h"
 #include "api/engine_version.h"
@@ -60,7 +61,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
   });
 
-  // Its jobs with their values, status, progress, and (when done) first yield and peak.
+  // Its jobs with their values, status, progress, and (when done) their headline's key values.
   router.get(R"(/v1/sweeps/(\d+))", {}, [c](const http::Request& req, http::Response& res) {
     const auto sweep = c.access.sweep_for(c.store, req, res, "read", false);
     if (!sweep) return;
@@ -75,10 +76,13 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
       if (!j.error.empty()) item["error"] = j.error;
       if (json warnings = warnings_of(j); !warnings.empty()) item["warnings"] = std::move(warnings);
       if (json latest = latest_values(c.store, j); !latest.is_null()) item["latest"] = std::move(latest);
+      // The key values of its experiment's headline, each with the summary group it belongs to.
       if (!j.summary_json.empty()) {
         const json summary = json::parse(j.summary_json, nullptr, false);
-        for (const char* key : {"first_yield", "peak"})
+        for (const KeyValue& v : pictures::headline_for(parsed_or_null(j.spec_json)).values) {
+          const std::string key = std::string(v.key).substr(0, std::string(v.key).find('.'));
           if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
+        }
       }
       ++counts[api::status_name(j.status)];
       jobs.push_back(item);

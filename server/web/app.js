@@ -1,7 +1,9 @@
 // The granulab web page: a small hash-routed client of the HTTP API (docs/api.md). Views:
 //   #/             jobs and sweeps with live status and progress
 //   #/jobs/ID      a job: status, warnings, live curve, snapshot sections (field and slice), downloads
-//   #/sweeps/ID    a sweep: overlaid curves and a table of its jobs' varied values, first yield and peak
+//   #/sweeps/ID    a sweep: overlaid curves and a table of its jobs' varied values and key values
+// What each experiment shows first (its curve's axes and series, key summary values and tables) is its
+// headline, from GET /v1/experiments: the page names no experiment's columns.
 //   #/submit       a form built from the experiment registry, prefilled from an example; errors by field
 // Every request carries the token kept in localStorage (asked for once, when the server answers 401).
 // Pictures are the server's own SVG documents, placed inline so they scale and can be inspected.
@@ -95,16 +97,50 @@ function warningMark(warnings) {
   if (!warnings || !warnings.length) return null;
   return el("span", { class: "warning", title: warnings.join("\n") }, " ⚠ " + warnings.length);
 }
-// A running job's latest row: its strain and stresses now.
-function latestText(latest) {
-  if (!latest) return "";
+// The registry's experiments by name ({headline, curve_columns, ...}), fetched once.
+let registryCache = null;
+async function experiments() {
+  if (!registryCache) {
+    const registry = await getJson("/v1/experiments");
+    registryCache = Object.fromEntries(registry.experiments.map((e) => [e.name, e]));
+  }
+  return registryCache;
+}
+function headlineOf(registry, name) { return registry[name] ? registry[name].headline : null; }
+// A stored (SI) value as an axis of the headline reads it: in natural units when `at` (the spec, or a
+// lookup) gives the scale's per_field, else in SI units.
+function reading(axis, value, at) {
+  let scale = axis.natural;
+  const per = scale.per_field ? at(scale.per_field) : 1;
+  if (!(per > 0)) scale = axis.si;
+  const v = value * scale.factor / (scale.per_field && scale === axis.natural ? per : 1);
+  return fmt(v) + (scale.unit === "-" ? "" : " " + scale.unit);
+}
+// A running job's latest row: its headline's x and first series now.
+function latestText(latest, headline, at = () => undefined) {
+  if (!latest || !headline) return "";
   const parts = [];
-  if (latest.strain !== undefined) parts.push("strain " + fmt(100 * latest.strain) + " %");
-  if (latest.deviator !== undefined) parts.push("deviator " + fmt(latest.deviator / 1e3, 4) + " kPa");
-  if (latest.stress_top !== undefined) parts.push("top " + fmt(latest.stress_top / 1e3, 4) + " kPa");
-  if (latest.slide_over_size !== undefined) parts.push("u/l " + fmt(latest.slide_over_size));
-  if (latest.tangential_over_p0 !== undefined) parts.push("T/P0 " + fmt(latest.tangential_over_p0));
+  if (latest[headline.x.column] !== undefined) parts.push(headline.x.label + " " + reading(headline.x, latest[headline.x.column], at));
+  const first = headline.series[0];
+  if (first && latest[first.column] !== undefined) parts.push(first.label + " " + reading(headline.y, latest[first.column], at));
   return parts.join(", ");
+}
+// The headline's key values of a summary (or a sweep's job item, which holds the same groups).
+function keyValues(headline, summary, at) {
+  if (!headline || !summary) return [];
+  return headline.values.filter((v) => typeof lookup(summary, v.key) === "number").map((v) => {
+    const where = v.at_x && typeof lookup(summary, v.at_x) === "number" ? " at " + reading(headline.x, lookup(summary, v.at_x), at) : "";
+    return v.label + " " + fmt(lookup(summary, v.key)) + (v.unit === "-" ? "" : " " + v.unit) + where;
+  });
+}
+// A summary list of groups (a crystal's load-unload cycles, say) as a table: a column per field.
+function summaryTable(title, rows) {
+  const flat = rows.map((r) => Object.fromEntries(Object.entries(r).filter(([, v]) => typeof v !== "object")));
+  const keys = [...new Set(flat.flatMap((r) => Object.keys(r)))];
+  return el("section", { class: "summary-table" }, el("h3", {}, title),
+    el("table", {}, el("tr", {}, keys.map((k) => el("th", {}, k))),
+      ...flat.map((r) => el("tr", {}, keys.map((k) => el("td", { class: typeof r[k] === "number" ? "num" : "" },
+        typeof r[k] === "number" ? fmt(r[k], 4) : String(r[k] ?? "")))))));
 }
 function when(ms) { return ms ? new Date(ms).toLocaleString() : ""; }
 function fmt(x, digits = 3) { return typeof x === "number" ? Number(x.toPrecision(digits)).toString() : ""; }
@@ -120,14 +156,14 @@ async function listView() {
   const sweepsTable = el("table", { id: "sweeps" });
   setMain(el("h1", {}, "Jobs"), jobsTable, el("h2", {}, "Sweeps"), sweepsTable);
   const refresh = async () => {
-    const [jobs, sweeps] = await Promise.all([getJson("/v1/jobs?limit=100"), getJson("/v1/sweeps?limit=50")]);
+    const [jobs, sweeps, registry] = await Promise.all([getJson("/v1/jobs?limit=100"), getJson("/v1/sweeps?limit=50"), experiments()]);
     fill(jobsTable, el("tr", {}, ["id", "label", "experiment", "status", "progress", "owner", "submitted"].map((h) => el("th", {}, h))),
       ...jobs.jobs.map((j) => el("tr", { "data-id": j.id },
         el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
         el("td", {}, el("a", { href: "#/jobs/" + j.id }, j.label || "(no label)"),
           j.sweep_id ? el("span", { class: "hint" }, " · ", el("a", { href: "#/sweeps/" + j.sweep_id }, "sweep " + j.sweep_id)) : null),
         el("td", {}, j.experiment), el("td", { class: "status-cell" }, statusCell(j.status), warningMark(j.warnings)),
-        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest)) : null),
+        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest, headlineOf(registry, j.experiment))) : null),
         el("td", {}, j.owner || ""), el("td", {}, when(j.created_ms)))));
     if (!jobs.jobs.length) jobsTable.append(el("tr", {}, el("td", { colspan: 7 }, "No jobs yet: ", el("a", { href: "#/submit" }, "submit one"))));
     fill(sweepsTable, el("tr", {}, ["id", "label", "varied", "owner", "created"].map((h) => el("th", {}, h))),
@@ -158,7 +194,15 @@ async function jobView(id) {
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve?format=csv`, `job${id}_curve.csv`); } }, "curve.csv"),
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve.svg`, `job${id}_curve.svg`); } }, "curve.svg"),
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/archive`, `job_${id}.tar`); } }, "everything (.tar)"));
-  setMain(head, el("h2", {}, "Curve"), curve, downloads, snapshots);
+  // The curve as its experiment's headline draws it, or one column; in natural units or SI.
+  const columnSelect = el("select", { id: "curve-y" }, el("option", { value: "" }, "headline"));
+  const unitsSelect = el("select", { id: "curve-units" }, el("option", { value: "natural" }, "natural"), el("option", { value: "si" }, "SI"));
+  const curveControls = el("div", { class: "controls" }, el("label", {}, "show ", columnSelect), el("label", {}, "units ", unitsSelect));
+  const tables = el("div", { id: "summary-tables" });
+  const curvePath = () => `/v1/jobs/${id}/curve.svg?units=${unitsSelect.value}` + (columnSelect.value ? "&y=" + encodeURIComponent(columnSelect.value) : "");
+  let lastStatus = null;
+  for (const control of [columnSelect, unitsSelect]) control.addEventListener("change", () => { if (lastStatus !== "queued") picture(curvePath(), curve); });
+  setMain(head, el("h2", {}, "Curve"), curveControls, curve, downloads, tables, snapshots);
 
   const showSnapshot = () => {
     const k = snapshotSelect.value;
@@ -173,13 +217,18 @@ async function jobView(id) {
 
   let known = -1;
   const refresh = async () => {
-    const job = await getJson("/v1/jobs/" + id);
+    const [job, registry] = await Promise.all([getJson("/v1/jobs/" + id), experiments()]);
     const warnings = job.warnings || [];
+    const headline = headlineOf(registry, job.experiment);
+    const at = (field) => lookup(job.spec, field);
+    if (columnSelect.options.length === 1 && registry[job.experiment])
+      columnSelect.append(...registry[job.experiment].curve_columns.map((c) => el("option", { value: c.name }, c.name + " (" + c.unit + ")")));
+    lastStatus = job.status;
     fill(head, 
       el("h1", {}, "Job " + job.id + ": " + (job.label || job.experiment)),
       el("p", {}, statusCell(job.status), "  ", progressBar(job),
         live(job) ? el("button", { style: "margin-left:1em", onclick: async () => { const r = await sendJson("POST", `/v1/jobs/${id}/cancel`); if (r.status >= 400) alert(r.body.error ? r.body.error.message : "HTTP " + r.status); } }, "Cancel") : null),
-      job.latest ? el("p", { id: "latest" }, "now: " + latestText(job.latest)) : null,
+      job.latest ? el("p", { id: "latest" }, "now: " + latestText(job.latest, headline, at)) : null,
       job.error ? el("p", { class: "error" }, job.error) : null,
       ...warnings.map((w) => el("p", {}, el("span", { class: "warning" }, "⚠ " + w))),
       el("p", { class: "hint" }, job.experiment, job.owner ? " · owner " + job.owner : "",
@@ -187,10 +236,11 @@ async function jobView(id) {
         // On a Slurm cluster: which Slurm job, and Slurm's word on it (e.g. PENDING (Resources)).
         job.slurm_job_id ? " · Slurm job " + job.slurm_job_id + (job.slurm_state ? ": " + job.slurm_state : "") : "",
         " · engine ", job.engine_version, " · submitted ", when(job.created_ms)),
-      job.summary && job.summary.first_yield ? el("p", {}, "first yield ", fmt(job.summary.first_yield.deviator_over_p0),
-        " p0 at ", fmt(100 * job.summary.first_yield.strain), " % strain; peak ", fmt(job.summary.peak.deviator_over_p0),
-        " p0 at ", fmt(100 * job.summary.peak.strain), " %") : null);
-    if (job.status !== "queued") await picture(`/v1/jobs/${id}/curve.svg`, curve);
+      keyValues(headline, job.summary, at).length ? el("p", { id: "key-values" }, keyValues(headline, job.summary, at).join("; ")) : null);
+    fill(tables, ...(headline && job.summary ? headline.tables : [])
+      .filter((t) => Array.isArray(job.summary[t.key]) && job.summary[t.key].length)
+      .map((t) => summaryTable(t.title, job.summary[t.key])));
+    if (job.status !== "queued") await picture(curvePath(), curve);
     else fill(curve, el("p", { class: "hint" }, "queued: the curve appears when it starts"));
     const list = (await getJson(`/v1/jobs/${id}/snapshots`)).snapshots;
     if (list.length !== known) {
@@ -214,24 +264,28 @@ async function sweepView(id) {
   const table = el("table", { id: "sweep-jobs" });
   setMain(head, curves, el("h2", {}, "Jobs"), table);
   const refresh = async () => {
-    const sweep = await getJson("/v1/sweeps/" + id);
+    const [sweep, registry] = await Promise.all([getJson("/v1/sweeps/" + id), experiments()]);
     const keys = Object.keys(sweep.vary || {});
+    // A spec without "experiment" is of the first registered one (the registry's order is kept).
+    const experiment = (sweep.spec && sweep.spec.experiment) || Object.keys(registry)[0] || "";
+    const headline = headlineOf(registry, experiment) || { x: null, series: [], values: [] };
+    // A job's spec field: its own varied value, else the base spec's.
+    const at = (j) => (field) => (j.values && j.values[field] !== undefined ? j.values[field] : lookup(sweep.spec, field));
     const anyLive = sweep.jobs.some(live);
     fill(head, el("h1", {}, "Sweep " + sweep.id + (sweep.label ? ": " + sweep.label : ""),
       el("span", { class: "hint" }, " varying " + Object.keys(sweep.vary || {}).join(", "))),
       el("p", {}, Object.entries(sweep.counts).map(([s, n]) => n + " " + s).join(", "),
         anyLive ? el("button", { style: "margin-left:1em", onclick: async () => { const r = await sendJson("POST", `/v1/sweeps/${id}/cancel`); if (r.status >= 400) alert(r.body.error ? r.body.error.message : "HTTP " + r.status); } }, "Cancel the rest") : null));
     await picture(`/v1/sweeps/${id}/curves.svg`, curves);
-    fill(table, el("tr", {}, ["job", ...keys, "status", "progress", "first yield (p0)", "at strain (%)", "peak (p0)", "at strain (%)"].map((h) => el("th", {}, h))),
+    fill(table, el("tr", {}, ["job", ...keys, "status", "progress", ...headline.values.map((v) => v.label + (v.unit === "-" ? "" : " (" + v.unit + ")"))].map((h) => el("th", {}, h))),
       ...sweep.jobs.map((j) => el("tr", { "data-id": j.id },
         el("td", { class: "num" }, el("a", { href: "#/jobs/" + j.id }, j.id)),
         ...keys.map((k) => el("td", { class: "num" }, JSON.stringify(j.values[k]))),
         el("td", {}, statusCell(j.status), warningMark(j.warnings), j.error ? el("div", { class: "error" }, j.error) : null),
-        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest)) : null),
-        el("td", { class: "num" }, j.first_yield ? fmt(j.first_yield.deviator_over_p0) : ""),
-        el("td", { class: "num" }, j.first_yield ? fmt(100 * j.first_yield.strain) : ""),
-        el("td", { class: "num" }, j.peak ? fmt(j.peak.deviator_over_p0) : ""),
-        el("td", { class: "num" }, j.peak ? fmt(100 * j.peak.strain) : ""))));
+        el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest, headline.x ? headline : null, at(j))) : null),
+        ...headline.values.map((v) => el("td", { class: "num" }, typeof lookup(j, v.key) === "number"
+          ? fmt(lookup(j, v.key)) + (v.at_x && typeof lookup(j, v.at_x) === "number" ? " at " + reading(headline.x, lookup(j, v.at_x), at(j)) : "")
+          : "")))));
     return anyLive;
   };
   return refresh;

@@ -589,5 +589,9 @@ class PythonClientTest(unittest.TestCase):
         self.client.cancel(job)
 
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import skip_aware  # noqa: E402  (tests/skip_aware.py)
+
+
 if __name__ == "__main__":
-    unittest.main()
+    skip_aware.main()

@@ -288,8 +288,12 @@ class ResultsEndToEndTest(unittest.TestCase):
             self.assertEqual(series_element.get("data-label"), text)
             for other in set(PRESSURES) - {pressure}:
                 self.assertNotIn(str(other), text)
-        # Higher confinement, higher deviator: the curves are the jobs' own, not one curve drawn three times.
-        tops = [min(y for _, y in points_of(s)) for s in series]  # SVG y grows downwards
+        # In the crystal's natural units (p0) the axis says so; in SI (kPa) higher confinement is a higher
+        # deviator: the curves are the jobs' own, not one curve drawn three times.
+        self.assertIn("(p0)", "".join(root.itertext()))
+        si = self.get_svg(f"/v1/sweeps/{self.sweep_id}/curves.svg", units="si")
+        self.assertIn("(kPa)", "".join(si.itertext()))
+        tops = [min(y for _, y in points_of(s)) for s in series_of(si)]  # SVG y grows downwards
         self.assertEqual(tops, sorted(tops, reverse=True), tops)
 
     def test_crystal_curve_svg_has_three_series_and_the_first_yield(self):
@@ -303,12 +307,31 @@ class ResultsEndToEndTest(unittest.TestCase):
             rows = curve_rows(self.client.curve(job))
             for s in series:
                 self.assertEqual(len(points_of(s)), rows)
+            # The headline's key values, first yield and peak: circled and numbered on the deviator, their
+            # words in the legend (never over the curves).
             markers = [g for g in root.iter(SVG + "g") if g.get("class") == "marker"]
-            self.assertEqual(len(markers), 1)
-            label = "".join(markers[0].itertext())
+            self.assertEqual(len(markers), 2)
+            self.assertEqual(["".join(m.itertext()) for m in markers], ["1", "2"])
+            label = markers[0].get("data-label")
             self.assertIn("first yield", label)
-            ratio = self.client.status(job)["summary"]["first_yield"]["deviator_over_p0"]
-            self.assertIn(f"{ratio:.3g}", label)
+            summary = self.client.status(job)["summary"]
+            ratio = summary["first_yield"]["deviator_over_p0"]
+            self.assertIn(f"{ratio:.3g} p0", label)
+            legend = "".join(next(g for g in root.iter(SVG + "g") if g.get("class") == "legend").itertext())
+            self.assertIn(label, legend)
+            self.assertIn(markers[1].get("data-label"), legend)
+            self.assertIn("peak", markers[1].get("data-label"))
+            # The deviator in p0 (natural units, the default) and in kPa (SI): the same rows, scaled by p0 / 1000.
+            si = self.get_svg(f"/v1/jobs/{job}/curve.svg", units="si")
+            self.assertIn("stress (p0)", "".join(root.itertext()))
+            self.assertIn("stress (kPa)", "".join(si.itertext()))
+            self.assertEqual(len(points_of(series_of(si)[0])), rows)
+            # One column instead of the headline's series: the chooser's ?y=.
+            one = self.get_svg(f"/v1/jobs/{job}/curve.svg", y="lateral_stress")
+            self.assertEqual([s.get("data-label") for s in series_of(one)], ["lateral_stress"])
+            self.assertEqual(len(points_of(series_of(one)[0])), rows)
+            self.assert_error(400, "y", f"/v1/jobs/{job}/curve.svg", {"y": "no_such_column"})
+            self.assert_error(400, "units", f"/v1/jobs/{job}/curve.svg", {"units": "imperial"})
 
     def test_curve_svg_of_a_running_job_has_no_marker_yet(self):
         self.assertIsNotNone(self.live_curve_svg, "no curve.svg was drawn while job 1 ran")
@@ -329,7 +352,8 @@ class ResultsEndToEndTest(unittest.TestCase):
         self.assertEqual(len(series), 4)
         dashed = [s for s in series if s.get("stroke-dasharray")]
         solid = [s for s in series if not s.get("stroke-dasharray")]
-        self.assertEqual([s.get("data-label") for s in solid], ["P / P0", "T / P0"])
+        self.assertEqual([s.get("data-label") for s in solid], ["P", "T"])
+        self.assertIn("force (P0)", "".join(root.itertext()))
         self.assertEqual(len(dashed), 2)
         self.assertTrue(all("eq. 1" in s.get("data-label") for s in dashed))
         self.assertIn("f = 0.3", dashed[1].get("data-label"))
@@ -524,5 +548,9 @@ class ResultsEndToEndTest(unittest.TestCase):
         self.assert_error(404, None, "/v1/jobs/987654/archive")
 
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import skip_aware  # noqa: E402  (tests/skip_aware.py)
+
+
 if __name__ == "__main__":
-    unittest.main()
+    skip_aware.main()

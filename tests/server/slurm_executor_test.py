@@ -401,5 +401,9 @@ class SlurmExecutorTest(unittest.TestCase):
         self.assertTrue(job["slurm_state"].startswith("FAILED"), job)
 
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import skip_aware  # noqa: E402  (tests/skip_aware.py)
+
+
 if __name__ == "__main__":
-    unittest.main(verbosity=2)
+    skip_aware.main(verbosity=2)

@@ -15,7 +15,7 @@
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
 #include "engine/experiments/crystal_compression/loading_program.h"
-#include "engine/experiments/result_sink.h"
+#include "engine/framework/result_sink.h"
 
 namespace granulab {
 

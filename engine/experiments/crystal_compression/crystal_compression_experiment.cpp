@@ -128,7 +128,7 @@ void visit_program(ParameterVisitor& v, CrystalParams& p) {
     v.require(int(strain) + int(deviator) + int(hold) <= 1, path.c_str(), one_of);
     if (strain) {
       segment.kind = LoadSegment::Kind::to_strain;
-      v.number("to_strain", segment.value, {0, p.max_strain}, "-",
+      v.number("to_strain", segment.value, {0, p.max_strain, false, "loading.max_strain"}, "-",
                "compress or release the platen to this axial strain, at the rate's speed (at most loading.max_strain)");
     }
     if (deviator) {
@@ -181,8 +181,21 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   for (double e : p.snapshot_strains)
     if (e <= p.max_strain) reachable.push_back(e);
   p.snapshot_strains = reachable;
-  v.numbers("snapshot_strains", p.snapshot_strains, {0, p.max_strain}, 1000, "-",
+  v.numbers("snapshot_strains", p.snapshot_strains, {0, p.max_strain, false, "loading.max_strain"}, 1000, "-",
             "axial strains at which snapshots are taken (at most loading.max_strain)");
+}
+
+Headline CrystalCompressionExperiment::headline() const {
+  const Scale per_p0{1, "p0", "loading.confining_pressure"};
+  return {"strain",
+          {"axial strain", {100, "%"}, {100, "%"}},
+          {"stress", per_p0, {1e-3, "kPa"}},
+          {{"deviator", "deviator"}, {"top platen", "stress_top"}, {"bottom platen", "stress_bottom"}},
+          {{"first_yield.deviator_over_p0", "first yield", "p0", "first_yield.strain", "first_yield.deviator"},
+           {"peak.deviator_over_p0", "peak", "p0", "peak.strain", "peak.deviator"}},
+          {{"segments", "loading segments"}, {"cycles", "load-unload cycles"}},
+          {},
+          "platen stresses include p0"};
 }
 
 Workload CrystalCompressionExperiment::workload() const {

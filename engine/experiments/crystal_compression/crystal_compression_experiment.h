@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "engine/experiments/crystal_compression/crystal_compression.h"
-#include "engine/experiments/experiment.h"
+#include "engine/framework/experiment.h"
 
 namespace granulab {
 
@@ -14,6 +14,7 @@ class CrystalCompressionExperiment : public Experiment {
 
   void parameters(ParameterVisitor& v) override;
   const std::vector<CurveColumn>& curve_columns() const override { return CrystalRow::columns(); }
+  Headline headline() const override;
   Workload workload() const override;
   std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const override;
 };

@@ -44,6 +44,19 @@ std::vector<double> ConfinementRow::values() const {
 
 void CrystalConfinementExperiment::parameters(ParameterVisitor& v) { visit_crystal_sample(v, params); }
 
+Headline CrystalConfinementExperiment::headline() const {
+  const Scale per_p0{1, "p0", "loading.confining_pressure"};
+  return {"step",
+          {"time step", {1, "-"}, {1, "-"}},
+          {"stress", per_p0, {1e-3, "kPa"}},
+          {{"top platen", "stress_top"}, {"bottom platen", "stress_bottom"}, {"lateral x", "lateral_stress_x"},
+           {"lateral y", "lateral_stress_y"}},
+          {{"prestrain", "pre-strain", "-"}},
+          {},
+          {},
+          nullptr};
+}
+
 Workload CrystalConfinementExperiment::workload() const { return confinement_workload(params); }
 
 std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink, const std::string& resume) const {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/crystal/confinement.h"
-#include "engine/experiments/experiment.h"
+#include "engine/framework/experiment.h"
 
 namespace granulab {
 
@@ -30,6 +30,7 @@ class CrystalConfinementExperiment : public Experiment {
 
   void parameters(ParameterVisitor& v) override;
   const std::vector<CurveColumn>& curve_columns() const override { return ConfinementRow::columns(); }
+  Headline headline() const override;
   Workload workload() const override;
   std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const override;
 };

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/experiments/result_sink.h"
+#include "engine/framework/result_sink.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
 

@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "engine/experiments/experiment.h"
+#include "engine/framework/experiment.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding.h"
 
 namespace granulab {
@@ -14,6 +14,7 @@ class TwoCubeSlidingExperiment : public Experiment {
 
   void parameters(ParameterVisitor& v) override;
   const std::vector<CurveColumn>& curve_columns() const override { return TwoCubeRow::columns(); }
+  Headline headline() const override;
   Workload workload() const override;
   std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const override;
 };

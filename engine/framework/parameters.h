@@ -17,10 +17,12 @@
 
 namespace granulab {
 
-/// Allowed values of a number: [lo, hi], or (lo, hi] when lo_open.
+/// Allowed values of a number: [lo, hi], or (lo, hi] when lo_open. `hi_is` names what hi is when it
+/// depends on another field (e.g. "loading.max_strain"): the docs state it in words, not as a number.
 struct Range {
   double lo, hi;
   bool lo_open = false;
+  const char* hi_is = nullptr;
 };
 
 class ParameterVisitor {
@@ -39,9 +41,10 @@ class ParameterVisitor {
   /// A list of numbers each in `range`, at most max_items.
   virtual void numbers(const char* key, std::vector<double>& values, Range range, std::size_t max_items,
                        const char* unit, const char* meaning) = 0;
-  /// A list of grain ids each in [0, last], at most max_items.
-  virtual void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, std::size_t max_items,
-                         const char* meaning) = 0;
+  /// A list of grain ids each in [0, last], at most max_items; `last_is` says in words what last is (it
+  /// depends on other fields).
+  virtual void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char* last_is,
+                         std::size_t max_items, const char* meaning) = 0;
   /// A list of objects: returns how many items to visit (a reader: how many the spec holds; a writer
   /// describing the schema: one). Visit item i's fields between begin_item(i) and end_item(), then
   /// call end_list().

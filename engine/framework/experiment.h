@@ -9,10 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/experiments/parameters.h"
-#include "engine/experiments/result_sink.h"
-#include "engine/experiments/summary_writer.h"
-#include "engine/experiments/workload.h"
+#include "engine/framework/headline.h"
+#include "engine/framework/parameters.h"
+#include "engine/framework/result_sink.h"
+#include "engine/framework/summary_writer.h"
+#include "engine/framework/workload.h"
 
 namespace granulab {
 
@@ -31,6 +32,9 @@ class Experiment {
   virtual void parameters(ParameterVisitor& v) = 0;
   /// The curve's columns; curve rows hold one value per column, in this order.
   virtual const std::vector<CurveColumn>& curve_columns() const = 0;
+  /// What it shows first (headline.h): its curve's axes and series, key summary values and tables, and
+  /// the closed forms for the parameters as they are.
+  virtual Headline headline() const = 0;
   /// The run's size and length from the parameters as they are, without building anything (cheap).
   virtual Workload workload() const = 0;
   /// Runs with the parameters as they are, from the start or, `resume` not empty, from a checkpoint the

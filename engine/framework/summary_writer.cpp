@@ -1,4 +1,4 @@
-#include "engine/experiments/summary_writer.h"
+#include "engine/framework/summary_writer.h"
 
 namespace granulab {
 

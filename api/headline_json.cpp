@@ -1,0 +1,55 @@
+#include "api/headline_json.h"
+
+namespace granulab::api {
+
+using nlohmann::json;
+
+namespace {
+
+json text_or_null(const char* s) { return s ? json(s) : json(); }
+
+json scale_json(const Scale& s) {
+  return {{"factor", s.factor}, {"unit", s.unit}, {"per_field", text_or_null(s.per_field)}};
+}
+
+json axis_json(const Axis& a) { return {{"label", a.label}, {"natural", scale_json(a.natural)}, {"si", scale_json(a.si)}}; }
+
+}  // namespace
+
+json headline_json(const Headline& h) {
+  json x = axis_json(h.x);
+  x["column"] = h.x_column;
+  json series = json::array(), values = json::array(), tables = json::array();
+  for (const HeadlineSeries& s : h.series)
+    series.push_back({{"label", s.label}, {"column", s.column}, {"si_column", s.si_column ? s.si_column : s.column}});
+  for (const KeyValue& v : h.values)
+    values.push_back({{"key", v.key}, {"label", v.label}, {"unit", v.unit}, {"at_x", text_or_null(v.at_x)},
+                      {"at_y", text_or_null(v.at_y)}});
+  for (const SummaryTable& t : h.tables) tables.push_back({{"key", t.key}, {"title", t.title}});
+  return {{"x", x}, {"y", axis_json(h.y)}, {"series", series}, {"values", values}, {"tables", tables},
+          {"note", text_or_null(h.note)}};
+}
+
+std::optional<double> number_at_path(const json& j, const std::string& dotted) {
+  const json* at = &j;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = dotted.find('.', start);
+    const std::string key = dotted.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!at->is_object() || !at->contains(key)) return std::nullopt;
+    at = &(*at)[key];
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  if (!at->is_number()) return std::nullopt;
+  return at->get<double>();
+}
+
+std::optional<double> scale_divisor(const Scale& s, const json& spec) {
+  if (!s.per_field) return 1.0;
+  const auto v = number_at_path(spec, s.per_field);
+  if (!v || !(*v > 0)) return std::nullopt;
+  return *v;
+}
+
+}  // namespace granulab::api

@@ -1,0 +1,23 @@
+// An experiment's headline (engine/framework/headline.h) as JSON, as GET /v1/experiments serves it for
+// the web page and the CLI: {"x": {"column", "label", "natural": scale, "si": scale}, "y": {"label",
+// "natural", "si"}, "series": [{"label", "column", "si_column"}], "values": [{"key", "label", "unit",
+// "at_x", "at_y"}], "tables": [{"key", "title"}], "note"}, a scale being {"factor", "unit", "per_field"}.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/framework/headline.h"
+
+namespace granulab::api {
+
+nlohmann::json headline_json(const Headline& h);
+/// The value at a dotted path of a JSON object ("first_yield.strain"), if it is a number.
+std::optional<double> number_at_path(const nlohmann::json& j, const std::string& dotted);
+/// The divisor of a scale for a job of `spec` (the normalised spec): its per_field's value, 1 without one;
+/// nullopt when the spec lacks it or it is not positive.
+std::optional<double> scale_divisor(const Scale& s, const nlohmann::json& spec);
+
+}  // namespace granulab::api
