@@ -57,13 +57,7 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);
     }
     control.reset();
-    world.step();
-    if ((world.steps() - start) % p.membrane_interval == 0) {
-      {
-        StageTimer t(control_time);
-        sample.check_finite();
-      }
-      sample.update_membrane();
+    if (sample.step(start)) {
       {
         StageTimer t(control_time);
         const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;

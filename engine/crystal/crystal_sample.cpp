@@ -107,6 +107,17 @@ void CrystalSample::update_membrane() {
                   world_.external_torque(), scales());
 }
 
+bool CrystalSample::step(std::uint64_t since) {
+  world_.step();
+  if ((world_.steps() - since) % params_.membrane_interval != 0) return false;
+  {
+    StageTimer t(world_.stage_times().control);
+    check_finite();
+  }
+  update_membrane();
+  return true;
+}
+
 void CrystalSample::fix_confining_forces() {
   update_membrane();  // the lateral faces' forces, from the sample as it is now
   std::vector<Vec3>& force = world_.external_force();

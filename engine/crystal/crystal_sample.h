@@ -103,6 +103,10 @@ class CrystalSample {
   double kinetic_elastic_ratio() const;
   /// Re-detects the bag's surface and recomputes its forces; nothing once the forces are fixed.
   void update_membrane();
+  /// One time step of the crystal, as every crystal loop takes it: the world's step, then, every
+  /// membrane_interval steps counted from step `since`, the finiteness check (timed as control) and the
+  /// bag's update. True when the bag was updated this step.
+  bool step(std::uint64_t since);
   /// Replaces the bag by fixed forces, as the paper's LAMMPS scripts confined the crystal: each surface
   /// grain gets, once, p0 x its projected area along the inward normal of each lateral face it lies on,
   /// at its centre, from the sample as it is (confined); the end grains share the platens' present load

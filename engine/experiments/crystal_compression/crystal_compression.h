@@ -116,8 +116,27 @@ class CrystalCompression {
     std::uint64_t row_step = 0;          ///< world step of the last row
     std::uint64_t segment_rows = 0;      ///< rows the deviator rule added in this segment
   };
+  struct Schedule;       // where rows and snapshots fall (compression_run.cpp)
+  struct ProgressShare;  // the progress bar shared between confinement and loading
+  struct Run;            // one run's sink, result, position, schedule and platen speeds
+
+  /// save and restore's one list of what a checkpoint holds beyond the sample (as World::state).
+  template <class Archive, class Self, class At, class Result>
+  static void state(Archive& a, Self& self, At& at, Result& r);
   std::string checkpoint(const Position& at, const CrystalResult& r) const;
   void restore(const std::string& checkpoint, Position& at, CrystalResult& r);
+  // The run, carved (compression_run.cpp).
+  void confine_and_begin(Run& run);
+  void begin_segment(Run& run, const LoadSegment& segment);
+  bool segment_done(const Run& run, const LoadSegment& segment) const;
+  void drive_platen(const Run& run, const LoadSegment& segment, bool last);
+  void record_due_rows(Run& run, const LoadSegment& segment);
+  void run_segment(Run& run);
+  void record(double strain, Run& run);
+  void take_due_snapshots(Run& run);
+  void safe_point(Run& run) const;
+  /// Platen approach since the reference state / its length (-).
+  double strain_now() const;
   void take_reference();
   CrystalRow measure(double strain) const;
   /// The deviator from the two platens alone (Pa): cheap enough for every step.

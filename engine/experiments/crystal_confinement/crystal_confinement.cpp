@@ -72,23 +72,25 @@ std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& 
     sink.curve_row(row.values());
     ++rows;
   };
+  // What a checkpoint holds beyond the sample, one list for writing and reading.
+  const auto saved = [&](auto& archive) {
+    archive.section("crystal_confinement");
+    archive.value(state);
+    archive.value(rows);
+  };
   if (resume.empty()) {
     record(0);
   } else {
     CheckpointReader in(resume);
     sample.restore(in);
-    in.section("crystal_confinement");
-    in.value(state);
-    in.value(rows);
+    saved(in);
     in.finish();
   }
   const auto safe_point = [&] {
     if (!sink.checkpoint_due()) return;
     CheckpointWriter w;
     sample.save(w);
-    w.section("crystal_confinement");
-    w.value(state);
-    w.value(rows);
+    saved(w);
     sink.checkpoint(w.finish(), rows, 0);
   };
   out->report = confine(sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);

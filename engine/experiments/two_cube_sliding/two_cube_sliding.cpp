@@ -78,6 +78,12 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
   // The slide as one count of steps: a row every per_point steps, a safe point (progress, cancel,
   // checkpoint) every 64, so that one long curve interval can still be stopped and resumed.
   std::uint64_t done = 0;
+  // What a checkpoint holds beyond the world, one list for writing and reading.
+  const auto state = [&](auto& archive) {
+    archive.section("two_cube_sliding");
+    archive.value(done);
+    archive.values(r.curve);
+  };
   if (resume.empty()) {
     place_at(0);
     record(0);
@@ -85,9 +91,7 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
   } else {
     CheckpointReader in(resume);
     world_.restore(in);
-    in.section("two_cube_sliding");
-    in.value(done);
-    in.values(r.curve);
+    state(in);
     in.finish();
   }
   while (done < total) {
@@ -99,9 +103,7 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
     if (done < total && sink.checkpoint_due()) {
       CheckpointWriter out;
       world_.save(out);
-      out.section("two_cube_sliding");
-      out.value(done);
-      out.values(r.curve);
+      state(out);
       sink.checkpoint(out.finish(), r.curve.size(), 0);
     }
   }
