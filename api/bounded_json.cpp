@@ -40,7 +40,8 @@ class BoundedBuilder : public nlohmann::json_sax<json> {
     } else {
       // The message may quote the offending bytes: keep it valid UTF-8 for the JSON error answer.
       error_ = SpecError("invalid_json", "",
-                         std::string("the spec is not valid JSON: ") + json(e.what()).dump(-1, ' ', false, json::error_handler_t::replace));
+                         std::string("the spec is not valid JSON: ") +
+                             json(e.what()).dump(-1, ' ', false, json::error_handler_t::replace));
     }
     return false;
   }
@@ -74,8 +75,9 @@ class BoundedBuilder : public nlohmann::json_sax<json> {
   }
   bool open(json container) {
     if (path_.size() >= max_depth_) {
-      error_ = SpecError("too_deep", field(), "the spec nests objects and arrays deeper than " +
-                                                  std::to_string(max_depth_) + " levels (at '" + field() + "')");
+      error_ = SpecError("too_deep", field(),
+                         "the spec nests objects and arrays deeper than " + std::to_string(max_depth_) +
+                             " levels (at '" + field() + "')");
       return false;
     }
     json* node = place(std::move(container));

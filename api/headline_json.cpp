@@ -12,7 +12,9 @@ json scale_json(const Scale& s) {
   return {{"factor", s.factor}, {"unit", s.unit}, {"per_field", text_or_null(s.per_field)}};
 }
 
-json axis_json(const Axis& a) { return {{"label", a.label}, {"natural", scale_json(a.natural)}, {"si", scale_json(a.si)}}; }
+json axis_json(const Axis& a) {
+  return {{"label", a.label}, {"natural", scale_json(a.natural)}, {"si", scale_json(a.si)}};
+}
 
 }  // namespace
 
@@ -23,11 +25,14 @@ json headline_json(const Headline& h) {
   for (const HeadlineSeries& s : h.series)
     series.push_back({{"label", s.label}, {"column", s.column}, {"si_column", s.si_column ? s.si_column : s.column}});
   for (const KeyValue& v : h.values)
-    values.push_back({{"key", v.key}, {"label", v.label}, {"unit", v.unit}, {"at_x", text_or_null(v.at_x)},
+    values.push_back({{"key", v.key},
+                      {"label", v.label},
+                      {"unit", v.unit},
+                      {"at_x", text_or_null(v.at_x)},
                       {"at_y", text_or_null(v.at_y)}});
   for (const SummaryTable& t : h.tables) tables.push_back({{"key", t.key}, {"title", t.title}});
-  return {{"x", x}, {"y", axis_json(h.y)}, {"series", series}, {"values", values}, {"tables", tables},
-          {"note", text_or_null(h.note)}};
+  return {{"x", x},           {"y", axis_json(h.y)}, {"series", series},
+          {"values", values}, {"tables", tables},    {"note", text_or_null(h.note)}};
 }
 
 std::optional<double> number_at_path(const json& j, const std::string& dotted) {

@@ -46,7 +46,7 @@ class MemorySink : public JobSink {
   void summary(const nlohmann::json& s) override { summary_ = s; }
 
   nlohmann::json summary_;
-  std::string curve_csv_;                                      ///< header row first
+  std::string curve_csv_;                                     ///< header row first
   std::vector<std::pair<double, nlohmann::json>> snapshots_;  ///< strain, compact JSON
 
  private:

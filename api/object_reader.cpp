@@ -48,7 +48,8 @@ double ObjectReader::number(const std::string& key, double fallback, double lo, 
   double v = fallback;
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_number())
-      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a number in " + range + ", got " + type_name(*j));
+      throw SpecError("wrong_type", field(key),
+                      "'" + field(key) + "' must be a number in " + range + ", got " + type_name(*j));
     v = j->get<double>();
   }
   if (!std::isfinite(v) || v > hi || v < lo || (lo_open && v == lo))
@@ -61,17 +62,20 @@ long ObjectReader::integer(const std::string& key, long fallback, long lo, long 
   const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   long v = fallback;
   if (const nlohmann::json* j = find(key)) {
-    const bool integral = j->is_number_integer() || (j->is_number_float() && std::floor(j->get<double>()) == j->get<double>() &&
-                                                     std::abs(j->get<double>()) < 1e15);
+    const bool integral =
+        j->is_number_integer() ||
+        (j->is_number_float() && std::floor(j->get<double>()) == j->get<double>() && std::abs(j->get<double>()) < 1e15);
     if (!integral)
-      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an integer in " + range + ", got " +
-                                                    (j->is_number() ? j->dump() : type_name(*j)));
+      throw SpecError("wrong_type", field(key),
+                      "'" + field(key) + "' must be an integer in " + range + ", got " +
+                          (j->is_number() ? j->dump() : type_name(*j)));
     if (j->is_number_unsigned() && j->get<unsigned long>() > static_cast<unsigned long>(hi))
       throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be in " + range + ", got " + j->dump());
     v = j->is_number_integer() ? j->get<long>() : long(j->get<double>());
   }
   if (v < lo || v > hi)
-    throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be in " + range + ", got " + std::to_string(v));
+    throw SpecError("out_of_range", field(key),
+                    "'" + field(key) + "' must be in " + range + ", got " + std::to_string(v));
   normalized_[key] = v;
   return v;
 }
@@ -83,7 +87,8 @@ std::string ObjectReader::choice(const std::string& key, const std::string& fall
   std::string v = fallback;
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_string())
-      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be one of: " + list + ", got " + type_name(*j));
+      throw SpecError("wrong_type", field(key),
+                      "'" + field(key) + "' must be one of: " + list + ", got " + type_name(*j));
     v = j->get<std::string>();
   }
   for (const std::string& a : allowed)
@@ -97,14 +102,17 @@ std::string ObjectReader::choice(const std::string& key, const std::string& fall
 std::string ObjectReader::text(const std::string& key, const std::string& fallback, std::size_t max_length) {
   std::string v = fallback;
   if (const nlohmann::json* j = find(key)) {
-    if (!j->is_string()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a string, got " + type_name(*j));
+    if (!j->is_string())
+      throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be a string, got " + type_name(*j));
     v = j->get<std::string>();
   }
   // Characters, not bytes: "é" is one (the parser has already checked the UTF-8; continuation bytes are
   // 10xxxxxx).
-  const auto characters = std::count_if(v.begin(), v.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
+  const auto characters =
+      std::count_if(v.begin(), v.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
   if (std::size_t(characters) > max_length)
-    throw SpecError("out_of_range", field(key), "'" + field(key) + "' must be at most " + std::to_string(max_length) + " characters");
+    throw SpecError("out_of_range", field(key),
+                    "'" + field(key) + "' must be at most " + std::to_string(max_length) + " characters");
   normalized_[key] = v;
   return v;
 }
@@ -115,7 +123,8 @@ std::vector<double> ObjectReader::numbers(const std::string& key, const std::vec
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of numbers");
     if (j->size() > max_items)
-      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
+      throw SpecError("out_of_range", field(key),
+                      "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
     v.clear();
     for (const auto& e : *j) {
       if (!e.is_number()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must hold only numbers");
@@ -136,13 +145,16 @@ std::vector<long> ObjectReader::integers(const std::string& key, long lo, long h
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of integers");
     if (j->size() > max_items)
-      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
+      throw SpecError("out_of_range", field(key),
+                      "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " values");
     for (const auto& e : *j) {
       if (!e.is_number_integer())
-        throw SpecError("wrong_type", field(key), "'" + field(key) + "' must hold only integers in " + range + ", got " + e.dump());
+        throw SpecError("wrong_type", field(key),
+                        "'" + field(key) + "' must hold only integers in " + range + ", got " + e.dump());
       const long x = e.get<long>();
       if (x < lo || x > hi || (e.is_number_unsigned() && e.get<unsigned long>() > (unsigned long)hi))
-        throw SpecError("out_of_range", field(key), "'" + field(key) + "' values must be in " + range + ", got " + e.dump());
+        throw SpecError("out_of_range", field(key),
+                        "'" + field(key) + "' values must be in " + range + ", got " + e.dump());
       v.push_back(x);
     }
   }
@@ -155,7 +167,8 @@ std::vector<nlohmann::json> ObjectReader::objects(const std::string& key, std::s
   if (const nlohmann::json* j = find(key)) {
     if (!j->is_array()) throw SpecError("wrong_type", field(key), "'" + field(key) + "' must be an array of objects");
     if (j->size() > max_items)
-      throw SpecError("out_of_range", field(key), "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " entries");
+      throw SpecError("out_of_range", field(key),
+                      "'" + field(key) + "' may hold at most " + std::to_string(max_items) + " entries");
     for (const auto& e : *j) v.push_back(e);
   }
   normalized_[key] = nlohmann::json::array();

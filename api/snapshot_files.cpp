@@ -93,7 +93,8 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
   const std::size_t m = f.contains("a") && f["a"].is_array() ? f["a"].size() : 0;
   if (m) {
     const auto a = numbers(f, "a", m), b = numbers(f, "b", m);
-    for (std::size_t k = 0; k < m; ++k) s.interfaces.push_back({GrainId(std::uint32_t(a[k])), GrainId(std::uint32_t(b[k]))});
+    for (std::size_t k = 0; k < m; ++k)
+      s.interfaces.push_back({GrainId(std::uint32_t(a[k])), GrainId(std::uint32_t(b[k]))});
     s.sliding = numbers(f, "sliding", m);
   }
   return s;
@@ -111,15 +112,16 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
   }
   // radius: the grain's inscribed sphere (half the neighbour distance), so OVITO draws touching grains.
   const double radius = 0.5 * neighbour_distance(s);
-  out += "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
-         "max_shear_strain equivalent_strain\n";
+  out +=
+      "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
+      "max_shear_strain equivalent_strain\n";
   char line[512];
   for (std::size_t i = 0; i < s.id.size(); ++i) {
     const Vec3 &x = s.position[i], &d = s.displacement[i];
     const Quat& q = s.orientation[i];
     std::snprintf(line, sizeof line, "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g\n",
-                  value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(), s.penetration[i],
-                  s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i]);
+                  value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(),
+                  s.penetration[i], s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i]);
     out += line;
   }
   return out;
@@ -147,7 +149,8 @@ std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   scalars("equivalent_strain", s.equivalent_strain);
   out += "FIELD orientation 1\nquaternion_wxyz 4 " + std::to_string(n) + " double\n";
   char buf[128];
-  for (const Quat& q : s.orientation) std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g %.9g\n", q.w(), q.x(), q.y(), q.z()), out += buf;
+  for (const Quat& q : s.orientation)
+    std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g %.9g\n", q.w(), q.x(), q.y(), q.z()), out += buf;
   return out;
 }
 
@@ -174,7 +177,9 @@ double neighbour_distance(const GrainSnapshot& s) {
   for (const GrainPair& p : s.interfaces) {
     const auto a = index.find(value(p.a)), b = index.find(value(p.b));
     if (a == index.end() || b == index.end()) continue;
-    d.push_back(((s.position[a->second] - s.displacement[a->second]) - (s.position[b->second] - s.displacement[b->second])).norm());
+    d.push_back(
+        ((s.position[a->second] - s.displacement[a->second]) - (s.position[b->second] - s.displacement[b->second]))
+            .norm());
   }
   if (d.empty()) return 0;
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());

@@ -28,8 +28,8 @@ struct Spec {
   const ExperimentType* type = nullptr;          ///< the registered experiment
   std::shared_ptr<const Experiment> experiment;  ///< holding the spec's parameters
   std::string label;
-  int threads = 0;             ///< 0 = all cores
-  nlohmann::json normalized;   ///< the spec with every default filled in
+  int threads = 0;            ///< 0 = all cores
+  nlohmann::json normalized;  ///< the spec with every default filled in
 
   const char* name() const { return type ? type->name : ""; }
   /// The experiment as its own type (tests and tools that know which one they asked for).

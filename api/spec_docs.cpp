@@ -29,7 +29,8 @@ class FieldDescriber : public ParameterVisitor {
   void integer(const char* key, int& value, long lo, long hi, const char* meaning) override {
     add(key, "integer", value, "-", meaning).update({{"minimum", lo}, {"maximum", hi}});
   }
-  void choice(const char* key, std::string& value, const std::vector<std::string>& allowed, const char* meaning) override {
+  void choice(const char* key, std::string& value, const std::vector<std::string>& allowed,
+              const char* meaning) override {
     add(key, "string", value, "", meaning)["choices"] = allowed;
   }
   void text(const char* key, std::string& value, std::size_t max_length, const char* meaning) override {
@@ -131,7 +132,8 @@ nlohmann::json field_schema(const nlohmann::json& f, const nlohmann::json& items
   const std::string unit = f.value("unit", "");
   // A bound that depends on another field is in the words, not a false maximum.
   const std::string depends = f.contains("maximum_is") ? "; at most " + f["maximum_is"].get<std::string>() : "";
-  json s = {{"description", f["meaning"].get<std::string>() + (unit.empty() || unit == "-" ? "" : " (" + unit + ")") + depends},
+  json s = {{"description",
+             f["meaning"].get<std::string>() + (unit.empty() || unit == "-" ? "" : " (" + unit + ")") + depends},
             {"default", f["default"]}};
   if (!unit.empty()) s["x-unit"] = unit;
   auto bounds = [&](json& target) {
@@ -166,7 +168,10 @@ nlohmann::json spec_schemas_json() {
   const json described = experiments_json();  // named: a range over a temporary's member would dangle
   for (const json& e : described["experiments"]) {
     const std::string name = e["name"];
-    json spec = {{"type", "object"}, {"title", name}, {"description", e["title"]}, {"additionalProperties", false},
+    json spec = {{"type", "object"},
+                 {"title", name},
+                 {"description", e["title"]},
+                 {"additionalProperties", false},
                  {"properties", json::object()}};
     // List items first ("a.b[].c" fields), so their lists can take them.
     std::map<std::string, json> items;
@@ -187,7 +192,8 @@ nlohmann::json spec_schemas_json() {
         // Which schema a spec follows; only the default experiment (the registry's first) may leave it
         // out or give null.
         if (name == described["experiments"][0]["name"]) {
-          schema = {{"enum", json::array({name, nullptr})}, {"default", name},
+          schema = {{"enum", json::array({name, nullptr})},
+                    {"default", name},
                     {"description", "the experiment (left out or null: this one, the default)"}};
         } else {
           schema = {{"const", name}, {"description", "the experiment"}};
@@ -202,7 +208,8 @@ nlohmann::json spec_schemas_json() {
       }
       json& section = spec["properties"][field.substr(0, dot)];
       if (section.is_null())
-        section = {{"type", json::array({"object", "null"})}, {"additionalProperties", false}, {"properties", json::object()}};
+        section = {
+            {"type", json::array({"object", "null"})}, {"additionalProperties", false}, {"properties", json::object()}};
       section["properties"][field.substr(dot + 1)] = schema;
     }
     schemas["Spec_" + name] = spec;
@@ -227,7 +234,9 @@ std::string experiments_markdown() {
     for (const nlohmann::json& f : e["fields"])
       out += "| `" + f["field"].get<std::string>() + "` | " + default_text(f["default"]) + " | " + allowed_text(f) +
              " | " + f["unit"].get<std::string>() + " | " + f["meaning"].get<std::string>() + " |\n";
-    out += "\nCurve columns (`curve.csv`, `GET /v1/jobs/{id}/curve`):\n\n| column | unit | meaning |\n| --- | --- | --- |\n";
+    out +=
+        "\nCurve columns (`curve.csv`, `GET /v1/jobs/{id}/curve`):\n\n| column | unit | meaning |\n| --- | --- | --- "
+        "|\n";
     for (const nlohmann::json& c : e["curve_columns"])
       out += "| `" + c["name"].get<std::string>() + "` | " + c["unit"].get<std::string>() + " | " +
              c["meaning"].get<std::string>() + " |\n";

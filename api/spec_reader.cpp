@@ -37,8 +37,8 @@ void SpecReader::numbers(const char* key, std::vector<double>& values, Range ran
   values = current().numbers(key, values, range.lo, range.hi, max_items);
 }
 
-void SpecReader::grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char*, std::size_t max_items,
-                           const char*) {
+void SpecReader::grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char*,
+                           std::size_t max_items, const char*) {
   values.clear();
   for (long id : current().integers(key, 0, long(last), max_items)) values.push_back(GrainId(std::uint32_t(id)));
 }

@@ -26,8 +26,8 @@ class SpecReader : public ParameterVisitor {
   void text(const char* key, std::string& value, std::size_t max_length, const char* meaning) override;
   void numbers(const char* key, std::vector<double>& values, Range range, std::size_t max_items, const char* unit,
                const char* meaning) override;
-  void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char* last_is, std::size_t max_items,
-                 const char* meaning) override;
+  void grain_ids(const char* key, std::vector<GrainId>& values, std::uint32_t last, const char* last_is,
+                 std::size_t max_items, const char* meaning) override;
   std::size_t begin_list(const char* key, std::size_t max_items, const char* meaning) override;
   void begin_item(std::size_t index) override;
   void end_item() override;

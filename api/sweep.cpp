@@ -17,7 +17,8 @@ void set_dotted(json& doc, const std::string& key, const json& value) {
   for (std::size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1) {
     json& section = (*node)[key.substr(start, dot - start)];
     if (section.is_null()) section = json::object();
-    if (!section.is_object()) throw SpecError("invalid_value", "vary." + key, "'" + key + "' is not inside an object of the spec");
+    if (!section.is_object())
+      throw SpecError("invalid_value", "vary." + key, "'" + key + "' is not inside an object of the spec");
     node = &section;
   }
   (*node)[key.substr(start)] = value;
@@ -31,41 +32,49 @@ std::string short_text(const json& v) {
 }  // namespace
 
 Sweep parse_sweep(const json& request, std::size_t max_jobs) {
-  if (!request.is_object()) throw SpecError("wrong_type", "", "a sweep must be a JSON object {\"spec\", \"vary\", \"mode\", \"label\"}");
+  if (!request.is_object())
+    throw SpecError("wrong_type", "", "a sweep must be a JSON object {\"spec\", \"vary\", \"mode\", \"label\"}");
   for (const auto& [key, value] : request.items())
     if (key != "spec" && key != "vary" && key != "mode" && key != "label")
       throw SpecError("unknown_field", key, "unknown field '" + key + "' (a sweep has spec, vary, mode, label)");
   Sweep s;
-  if (!request.contains("spec")) throw SpecError("missing", "spec", "'spec' (the base spec every point starts from) is required");
+  if (!request.contains("spec"))
+    throw SpecError("missing", "spec", "'spec' (the base spec every point starts from) is required");
   s.base = request["spec"];
   if (!s.base.is_object()) throw SpecError("wrong_type", "spec", "'spec' must be an object (the base spec)");
   s.mode = request.contains("mode") && request["mode"].is_string() ? request["mode"].get<std::string>() : "product";
-  if (request.contains("mode") && !request["mode"].is_string()) throw SpecError("wrong_type", "mode", "'mode' must be \"product\" or \"zip\"");
+  if (request.contains("mode") && !request["mode"].is_string())
+    throw SpecError("wrong_type", "mode", "'mode' must be \"product\" or \"zip\"");
   if (s.mode != "product" && s.mode != "zip")
     throw SpecError("invalid_value", "mode", "'mode' must be \"product\" or \"zip\", got '" + s.mode + "'");
-  if (request.contains("label") && !request["label"].is_string()) throw SpecError("wrong_type", "label", "'label' must be a string");
+  if (request.contains("label") && !request["label"].is_string())
+    throw SpecError("wrong_type", "label", "'label' must be a string");
   s.label = request.value("label", std::string());
-  if (std::count_if(s.label.begin(), s.label.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }) > 200)
+  if (std::count_if(s.label.begin(), s.label.end(),
+                    [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }) > 200)
     throw SpecError("out_of_range", "label", "'label' must be at most 200 characters");
   s.vary = request.value("vary", json::object());
   if (!s.vary.is_object() || s.vary.empty())
-    throw SpecError("wrong_type", "vary", "'vary' must be an object of dotted keys and lists of values, e.g. "
-                                          "{\"loading.confining_pressure\": [10e3, 30e3]}");
+    throw SpecError("wrong_type", "vary",
+                    "'vary' must be an object of dotted keys and lists of values, e.g. "
+                    "{\"loading.confining_pressure\": [10e3, 30e3]}");
   std::vector<std::string> keys;
   std::size_t count = s.mode == "zip" ? 0 : 1, length = 0;
   for (const auto& [key, values] : s.vary.items()) {
-    if (key == "experiment") throw SpecError("invalid_value", "vary.experiment", "a sweep varies one experiment's fields, not the experiment");
+    if (key == "experiment")
+      throw SpecError("invalid_value", "vary.experiment", "a sweep varies one experiment's fields, not the experiment");
     if (!values.is_array() || values.empty())
       throw SpecError("wrong_type", "vary." + key, "'vary." + key + "' must be a non-empty list of values");
     if (s.mode == "zip" && !keys.empty() && values.size() != length)
       throw SpecError("invalid_value", "vary." + key,
-                      "with mode \"zip\" every list must be as long as the first (" + std::to_string(length) + "); 'vary." +
-                          key + "' has " + std::to_string(values.size()));
+                      "with mode \"zip\" every list must be as long as the first (" + std::to_string(length) +
+                          "); 'vary." + key + "' has " + std::to_string(values.size()));
     length = values.size();
     count = s.mode == "zip" ? length : count * values.size();
     if (count > max_jobs)
-      throw SpecError("out_of_range", "vary", "the sweep would make more than " + std::to_string(max_jobs) +
-                                                  " jobs (max_jobs_per_sweep); split it");
+      throw SpecError(
+          "out_of_range", "vary",
+          "the sweep would make more than " + std::to_string(max_jobs) + " jobs (max_jobs_per_sweep); split it");
     keys.push_back(key);
   }
   // Every point, validated: the first bad one names its key and value.
@@ -96,7 +105,8 @@ Sweep parse_sweep(const json& request, std::size_t max_jobs) {
             k.rfind(e.field + ".", 0) == 0 || k.rfind(e.field + "[", 0) == 0)
           if (culprit.empty()) culprit = k;
       if (culprit.empty()) culprit = keys.front();
-      throw SpecError(e.code, "vary." + culprit, "'vary." + culprit + "' value " + short_text(values[culprit]) + ": " + e.what());
+      throw SpecError(e.code, "vary." + culprit,
+                      "'vary." + culprit + "' value " + short_text(values[culprit]) + ": " + e.what());
     }
   }
   return s;

@@ -51,9 +51,9 @@ struct Options {
   int grains = 6;   // per side: grains_x = rows_z = layers_y
   int steps = 2000;
   int record_every = 20;
-  double rate = 1e-4;        // R = v / sqrt(E/rho)
-  double prestrain = 1e-4;   // eps0
-  double skin_factor = 0.03; // skin / d, the crystal default
+  double rate = 1e-4;         // R = v / sqrt(E/rho)
+  double prestrain = 1e-4;    // eps0
+  double skin_factor = 0.03;  // skin / d, the crystal default
   std::string lammps_dir, forces_file;
 };
 
@@ -80,7 +80,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--forces") o.forces_file = v;
     else throw std::invalid_argument("unknown option " + a);
   }
-  if (o.grains < 2 || o.steps < 1 || o.record_every < 1) throw std::invalid_argument("need --grains >= 2, --steps >= 1, --record-every >= 1");
+  if (o.grains < 2 || o.steps < 1 || o.record_every < 1)
+    throw std::invalid_argument("need --grains >= 2, --steps >= 1, --record-every >= 1");
   return o;
 }
 
@@ -88,7 +89,8 @@ enum WallIndex { x_lo, x_hi, z_lo, z_hi };
 const char* const wall_names[] = {"xlo", "xhi", "zlo", "zhi"};
 
 // Writes the LAMMPS inputs for the world as built (before any step).
-void write_lammps(const std::string& dir, const World& world, const Material& mat, double eps0, double speed, const Options& o) {
+void write_lammps(const std::string& dir, const World& world, const Material& mat, double eps0, double speed,
+                  const Options& o) {
   std::filesystem::create_directories(dir);
   const GrainTemplate& grain = world.grain();
   const Bodies& bodies = world.bodies();
@@ -108,10 +110,13 @@ void write_lammps(const std::string& dir, const World& world, const Material& ma
     f.precision(17);
     f << "granulab bench_compare: " << bodies.size() << " rhombic dodecahedra, " << per << " spheres each\n\n";
     f << spheres.size() << " atoms\n1 atom types\n\n";
-    f << lo.x() << ' ' << hi.x() << " xlo xhi\n" << lo.y() << ' ' << hi.y() << " ylo yhi\n" << lo.z() << ' ' << hi.z() << " zlo zhi\n\n";
+    f << lo.x() << ' ' << hi.x() << " xlo xhi\n"
+      << lo.y() << ' ' << hi.y() << " ylo yhi\n"
+      << lo.z() << ' ' << hi.z() << " zlo zhi\n\n";
     f << "Atoms # sphere\n\n";
     for (std::size_t s = 0; s < spheres.size(); ++s)
-      f << s + 1 << " 1 " << d << ' ' << mat.density << ' ' << spheres[s].x() << ' ' << spheres[s].y() << ' ' << spheres[s].z() << "\n";
+      f << s + 1 << " 1 " << d << ' ' << mat.density << ' ' << spheres[s].x() << ' ' << spheres[s].y() << ' '
+        << spheres[s].z() << "\n";
     f << "\nMolecules\n\n";
     for (std::size_t s = 0; s < spheres.size(); ++s) f << s + 1 << ' ' << s / per + 1 << "\n";
   }
@@ -126,8 +131,9 @@ void write_lammps(const std::string& dir, const World& world, const Material& ma
       const Mat3 r = bodies.orientation[b].toRotationMatrix();
       const Mat3 in = r * bodies.inertia[b].asDiagonal() * r.transpose();
       const Vec3& x = bodies.position[b];
-      f << b + 1 << ' ' << bodies.mass[b] << ' ' << x.x() << ' ' << x.y() << ' ' << x.z() << ' ' << in(0, 0) << ' ' << in(1, 1) << ' '
-        << in(2, 2) << ' ' << in(0, 1) << ' ' << in(0, 2) << ' ' << in(1, 2) << " 0 0 0 0 0 0 0 0 0\n";
+      f << b + 1 << ' ' << bodies.mass[b] << ' ' << x.x() << ' ' << x.y() << ' ' << x.z() << ' ' << in(0, 0) << ' '
+        << in(1, 1) << ' ' << in(2, 2) << ' ' << in(0, 1) << ' ' << in(0, 2) << ' ' << in(1, 2)
+        << " 0 0 0 0 0 0 0 0 0\n";
     }
   }
   {
@@ -238,22 +244,26 @@ int main(int argc, char** argv) try {
     f.precision(10);
     f << "step,time,f_xlo,f_xhi,f_zlo,f_zhi\n";
     for (const Record& rec : records)
-      f << rec.step << ',' << rec.step * settings.time_step << ',' << rec.f[0] << ',' << rec.f[1] << ',' << rec.f[2] << ',' << rec.f[3] << "\n";
+      f << rec.step << ',' << rec.step * settings.time_step << ',' << rec.f[0] << ',' << rec.f[1] << ',' << rec.f[2]
+        << ',' << rec.f[3] << "\n";
   }
 
   const double sphere_steps = double(world.sphere_count()) * o.steps;
   const StageTimes& t = world.stage_times();
-  std::printf("granulab: %zu grains, %zu spheres, %d steps, dt %.4g s, top wall speed %.4g m/s\n", world.bodies().size(),
-              world.sphere_count(), o.steps, settings.time_step, speed);
-  std::printf("  %.3f s  %.4g sphere-steps/s  threads %d  peak RSS %.0f MiB  rebuilds %llu  contacts %zu  wall contacts %zu\n", seconds,
-              sphere_steps / seconds, omp_get_max_threads(), peak_rss_mib(), (unsigned long long)world.rebuilds(),
-              world.contact_stats().contacts, world.contact_stats().wall_contacts);
-  std::printf("  stages (s): integrate %.2f  spheres %.2f  rebuild %.2f  contacts %.2f  walls %.2f\n", t.integrate, t.spheres, t.rebuild,
-              t.contacts, t.walls);
-  std::printf("  final wall forces (N): xlo %.6g  xhi %.6g  zlo %.6g  zhi %.6g\n", records.back().f[0], records.back().f[1],
-              records.back().f[2], records.back().f[3]);
-  std::printf("RESULT spheres=%zu grains=%zu steps=%d seconds=%.6f sphere_steps_per_s=%.6g threads=%d peak_rss_mib=%.1f\n",
-              world.sphere_count(), world.bodies().size(), o.steps, seconds, sphere_steps / seconds, omp_get_max_threads(), peak_rss_mib());
+  std::printf("granulab: %zu grains, %zu spheres, %d steps, dt %.4g s, top wall speed %.4g m/s\n",
+              world.bodies().size(), world.sphere_count(), o.steps, settings.time_step, speed);
+  std::printf(
+      "  %.3f s  %.4g sphere-steps/s  threads %d  peak RSS %.0f MiB  rebuilds %llu  contacts %zu  wall contacts %zu\n",
+      seconds, sphere_steps / seconds, omp_get_max_threads(), peak_rss_mib(), (unsigned long long)world.rebuilds(),
+      world.contact_stats().contacts, world.contact_stats().wall_contacts);
+  std::printf("  stages (s): integrate %.2f  spheres %.2f  rebuild %.2f  contacts %.2f  walls %.2f\n", t.integrate,
+              t.spheres, t.rebuild, t.contacts, t.walls);
+  std::printf("  final wall forces (N): xlo %.6g  xhi %.6g  zlo %.6g  zhi %.6g\n", records.back().f[0],
+              records.back().f[1], records.back().f[2], records.back().f[3]);
+  std::printf(
+      "RESULT spheres=%zu grains=%zu steps=%d seconds=%.6f sphere_steps_per_s=%.6g threads=%d peak_rss_mib=%.1f\n",
+      world.sphere_count(), world.bodies().size(), o.steps, seconds, sphere_steps / seconds, omp_get_max_threads(),
+      peak_rss_mib());
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_compare: %s\n", e.what());

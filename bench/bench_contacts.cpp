@@ -30,10 +30,12 @@ double peak_rss_mib() {
 
 void report(const char* name, std::size_t spheres, std::uint64_t steps, double seconds, const StageTimes& t) {
   const double ns = seconds * 1e9 / (double(spheres) * double(steps));
-  std::printf("%-34s spheres %8zu  steps %7llu  %7.2f s  %8.2f ns/sphere-step  %.3g sphere-steps/s  threads %d  peak RSS %.0f MiB\n",
-              name, spheres, (unsigned long long)steps, seconds, ns, 1e9 / ns, omp_get_max_threads(), peak_rss_mib());
-  std::printf("%-34s stages (s): integrate %.2f  spheres %.2f  rebuild %.2f  contacts %.2f  walls %.2f\n", "", t.integrate,
-              t.spheres, t.rebuild, t.contacts, t.walls);
+  std::printf(
+      "%-34s spheres %8zu  steps %7llu  %7.2f s  %8.2f ns/sphere-step  %.3g sphere-steps/s  threads %d  peak RSS %.0f "
+      "MiB\n",
+      name, spheres, (unsigned long long)steps, seconds, ns, 1e9 / ns, omp_get_max_threads(), peak_rss_mib());
+  std::printf("%-34s stages (s): integrate %.2f  spheres %.2f  rebuild %.2f  contacts %.2f  walls %.2f\n", "",
+              t.integrate, t.spheres, t.rebuild, t.contacts, t.walls);
 }
 
 void two_cubes() {

@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
     f();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  std::printf("%-6s %-8s %10s %10s %8s %12s %8s\n", "run", "sink", "wall (s)", "steps", "rows", "writes (s)", "batches");
+  std::printf("%-6s %-8s %10s %10s %8s %12s %8s\n", "run", "sink", "wall (s)", "steps", "rows", "writes (s)",
+              "batches");
   for (int k = 0; k < repeat; ++k) {
     api::MemorySink memory;
     nlohmann::json summary;

@@ -59,8 +59,7 @@ int main(int argc, char** argv) {
               p.grains_x, p.rows_z, p.layers_y, p.grain.edge_spheres, p.confining_pressure, p.material.damping,
               rest_steps);
   std::printf("%6s %11s %9s %16s %12s %12s %12s %14s %10s\n", "dt/t0", "confinement", "converged", "walls / p0",
-              "KE/EE start",
-              "KE/EE max", "KE/EE end", "total drift", "result");
+              "KE/EE start", "KE/EE max", "KE/EE end", "total drift", "result");
   for (double f : factors) {
     p.time_step_factor = f;
     CrystalSample sample(p);
@@ -91,7 +90,8 @@ int main(int argc, char** argv) {
     const double drift = (total() - e0) / e0;
     if (result == "stable" && (drift > 1e-3 || ke_max > 10 * std::max(ke0, 1e-4))) result = "growing";
     std::printf("%6.3f %11llu %9s %7.4f %7.4f %12.3g %12.3g %12.3g %14.3g %10s\n", f, (unsigned long long)c.steps,
-                c.converged ? "yes" : "no", c.stress_top / p.confining_pressure, c.stress_bottom / p.confining_pressure, ke0, ke_max, sample.kinetic_elastic_ratio(), drift, result.c_str());
+                c.converged ? "yes" : "no", c.stress_top / p.confining_pressure, c.stress_bottom / p.confining_pressure,
+                ke0, ke_max, sample.kinetic_elastic_ratio(), drift, result.c_str());
     std::fflush(stdout);
   }
   return 0;

@@ -37,14 +37,15 @@ int main(int argc, char** argv) {
     JobStore store((dir / "jobs.db").string());
     WorkerPool pool(store, 1, 1);
     HttpServer http(store, pool, HttpOptions{1 << 20, 8, {}});
-    for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes, mount_export_routes,
-                       mount_web_routes, mount_worker_routes})
+    for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes,
+                       mount_export_routes, mount_web_routes, mount_worker_routes})
       http.mount(group);
     const int port = http.bind("127.0.0.1", 0);
     std::thread serving([&] { http.serve(); });
     pool.start();
     httplib::Client submit("127.0.0.1", port);
-    const char* spec = R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-4}, "output": {"curve_points": 20}})";
+    const char* spec =
+        R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-4}, "output": {"curve_points": 20}})";
     for (int k = 0; k < 200; ++k) submit.Post("/v1/jobs", spec, "application/json");  // more than the soak can run
 
     std::atomic<bool> running{true};
@@ -75,10 +76,11 @@ int main(int argc, char** argv) {
     pool.stop();
     std::sort(latencies.begin(), latencies.end());
     auto pct = [&](double p) { return latencies.empty() ? 0.0 : latencies[std::size_t(p * (latencies.size() - 1))]; };
-    std::printf("%d clients, %d s: %zu requests, %.0f requests/s, latency p50 %.2f ms, p99 %.2f ms, max %.2f ms, "
-                "%ld errors; %zu jobs finished meanwhile\n",
-                clients, seconds, latencies.size(), latencies.size() / double(seconds), pct(0.5), pct(0.99),
-                latencies.empty() ? 0.0 : latencies.back(), errors.load(), done);
+    std::printf(
+        "%d clients, %d s: %zu requests, %.0f requests/s, latency p50 %.2f ms, p99 %.2f ms, max %.2f ms, "
+        "%ld errors; %zu jobs finished meanwhile\n",
+        clients, seconds, latencies.size(), latencies.size() / double(seconds), pct(0.5), pct(0.99),
+        latencies.empty() ? 0.0 : latencies.back(), errors.load(), done);
   }
   fs::remove_all(dir);
   return 0;

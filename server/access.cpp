@@ -31,7 +31,8 @@ std::map<std::string, User> read_token_file(const std::string& path, std::string
     if (!(fields >> token) || ((fields >> role) && role != "admin") || (fields >> extra))
       throw std::invalid_argument(where + "expected '<user> <token> [admin]'");
     // One token names one user: a shared token would make two people one owner.
-    if (tokens.count(token)) throw std::invalid_argument(where + "this token is already given to '" + tokens[token].name + "'");
+    if (tokens.count(token))
+      throw std::invalid_argument(where + "this token is already given to '" + tokens[token].name + "'");
     if (!users.insert(user).second) throw std::invalid_argument(where + "user '" + user + "' already has a token");
     tokens[token] = User{user, role == "admin"};
   }
@@ -67,8 +68,8 @@ std::optional<JobRecord> Access::job_for(JobStore& store, const http::Request& r
   }
   if (may(who(req), job->owner, write)) return job;
   error(res, 403, "forbidden",
-        "job " + std::to_string(job->id) + " belongs to '" + job->owner + "': only its owner or an admin may " + action +
-            " it");
+        "job " + std::to_string(job->id) + " belongs to '" + job->owner + "': only its owner or an admin may " +
+            action + " it");
   return std::nullopt;
 }
 
@@ -87,7 +88,8 @@ std::optional<SweepRecord> Access::sweep_for(JobStore& store, const http::Reques
   return std::nullopt;
 }
 
-std::optional<std::string> Access::listing_owner(const http::Request& req, http::Response& res, const char* what) const {
+std::optional<std::string> Access::listing_owner(const http::Request& req, http::Response& res,
+                                                 const char* what) const {
   std::string owner = req.has_param("owner") ? req.get_param_value("owner") : "";
   const User me = who(req);
   if (private_reads_ && !me.admin) {

@@ -39,11 +39,12 @@ std::string Admission::budget_problem(const api::Spec& spec) const {
   const Workload w = spec.experiment->workload();
   const std::string size = number(w.spheres) + " spheres in " + number(w.grains) + " grains";
   if (w.peak_bytes() > limits_.max_memory_bytes)
-    return "this job would need about " + gigabytes(w.peak_bytes()) + " of memory (" + size + "); the server's limit is " +
-           gigabytes(limits_.max_memory_bytes) + " (max_memory)";
+    return "this job would need about " + gigabytes(w.peak_bytes()) + " of memory (" + size +
+           "); the server's limit is " + gigabytes(limits_.max_memory_bytes) + " (max_memory)";
   if (w.sphere_steps() > limits_.max_sphere_steps)
-    return "this job would take about " + number(w.sphere_steps()) + " sphere-steps (" + size + " x " + number(w.steps) +
-           " steps); the server's limit is " + number(limits_.max_sphere_steps) + " (max_sphere_steps)";
+    return "this job would take about " + number(w.sphere_steps()) + " sphere-steps (" + size + " x " +
+           number(w.steps) + " steps); the server's limit is " + number(limits_.max_sphere_steps) +
+           " (max_sphere_steps)";
   return "";
 }
 
@@ -103,8 +104,8 @@ json Admission::cost_estimate(const api::Spec& spec) const {
     fraction = used[used.size() / 2];
   }
   std::vector<double>& rates = same.empty() ? any : same;
-  std::string basis = same.empty() ? (any.empty() ? "typical" : "recent jobs of other experiments")
-                                   : "recent " + experiment + " jobs";
+  std::string basis =
+      same.empty() ? (any.empty() ? "typical" : "recent jobs of other experiments") : "recent " + experiment + " jobs";
   double rate = 5e7 * executor_.threads_per_job();
   if (!rates.empty()) {
     std::nth_element(rates.begin(), rates.begin() + rates.size() / 2, rates.end());

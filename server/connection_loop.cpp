@@ -139,7 +139,8 @@ void ConnectionLoop::close_connection(int fd) {
 }
 
 void ConnectionLoop::admit(Handed h, std::int64_t now) {
-  Connection& c = connections_.emplace(h.fd, Connection{RequestReader(options_.limits, std::move(h.leftover))}).first->second;
+  Connection& c =
+      connections_.emplace(h.fd, Connection{RequestReader(options_.limits, std::move(h.leftover))}).first->second;
   c.served = h.served;
   if (!h.response.empty()) {  // the answer first; the next request (maybe already here) after it
     c.out = std::move(h.response);

@@ -26,11 +26,11 @@ namespace granulab::server {
 struct ConnectionOptions {
   RequestLimits limits;
   int handler_threads = 8;
-  int max_connections = 512;            ///< more open connections are answered 503 and closed
-  int request_timeout_ms = 10000;       ///< from a request's first byte to its last
-  int keep_alive_timeout_ms = 5000;     ///< idle time allowed between requests on one connection
-  int keep_alive_max_requests = 100;    ///< requests per connection before it is closed
-  int write_timeout_ms = 10000;         ///< an answer that makes no progress for this long is abandoned
+  int max_connections = 512;          ///< more open connections are answered 503 and closed
+  int request_timeout_ms = 10000;     ///< from a request's first byte to its last
+  int keep_alive_timeout_ms = 5000;   ///< idle time allowed between requests on one connection
+  int keep_alive_max_requests = 100;  ///< requests per connection before it is closed
+  int write_timeout_ms = 10000;       ///< an answer that makes no progress for this long is abandoned
   /// A trusted request (RequestLimits::trusted: a job's worker sending a checkpoint) has this long instead
   /// of request_timeout_ms, from the moment its head is read.
   int trusted_request_timeout_ms = 600000;
@@ -61,11 +61,11 @@ class ConnectionLoop {
   struct Connection {
     RequestReader reader;
     std::int64_t deadline_ms = 0;
-    int served = 0;             ///< requests answered on this connection
-    bool draining = false;      ///< rejected or done: reading and discarding until the peer closes or the deadline
-    std::string out;            ///< the answer being written
-    std::size_t out_at = 0;     ///< bytes of it already sent
-    bool close_after = false;   ///< close once `out` is sent
+    int served = 0;                 ///< requests answered on this connection
+    bool draining = false;          ///< rejected or done: reading and discarding until the peer closes or the deadline
+    std::string out;                ///< the answer being written
+    std::size_t out_at = 0;         ///< bytes of it already sent
+    bool close_after = false;       ///< close once `out` is sent
     bool trusted_deadline = false;  ///< the deadline is already the trusted request's
     bool writing() const { return out_at < out.size(); }
   };
@@ -87,8 +87,7 @@ class ConnectionLoop {
   void on_readable(int fd, std::int64_t now);
   void on_writable(int fd, std::int64_t now);
   void after_feed(int fd, Connection& c, std::int64_t now);
-  void reject(int fd, Connection& c, int status, const std::string& code, const std::string& message,
-              std::int64_t now);
+  void reject(int fd, Connection& c, int status, const std::string& code, const std::string& message, std::int64_t now);
   void drain(int fd, Connection& c, std::int64_t now);
   void close_connection(int fd);
   void wake();

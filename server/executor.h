@@ -20,7 +20,7 @@ class Executor {
   /// A cancel was requested for this job (queued or running).
   virtual void cancel_requested(std::int64_t job) { (void)job; }
   virtual std::string name() const = 0;  ///< "local" or "slurm"
-  virtual int workers() const = 0;        ///< jobs that may run at once (Slurm: 0, the cluster decides)
+  virtual int workers() const = 0;       ///< jobs that may run at once (Slurm: 0, the cluster decides)
   virtual int threads_per_job() const = 0;
   /// How often a running job stores a checkpoint (s; 0 = never).
   virtual double checkpoint_seconds() const = 0;

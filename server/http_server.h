@@ -29,12 +29,12 @@ struct HttpOptions {
   /// `Authorization: Bearer <token>`, jobs record their owner, and only the owner or an admin may
   /// cancel, delete or re-prioritise a job.
   std::map<std::string, User> tokens;
-  bool private_reads = false;            ///< reading a job is for its owner and admins only
-  int max_queued_per_user = 1000;        ///< more queued jobs of one user get 429
-  int max_jobs_per_sweep = 1000;         ///< a larger sweep is a 400
+  bool private_reads = false;      ///< reading a job is for its owner and admins only
+  int max_queued_per_user = 1000;  ///< more queued jobs of one user get 429
+  int max_jobs_per_sweep = 1000;   ///< a larger sweep is a 400
   /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
-  double max_memory_bytes = 0;           ///< B, peak memory; 0 = half the machine's physical memory
-  double max_sphere_steps = 1e13;        ///< spheres x time steps (about 9 h at 3e8 per second)
+  double max_memory_bytes = 0;     ///< B, peak memory; 0 = half the machine's physical memory
+  double max_sphere_steps = 1e13;  ///< spheres x time steps (about 9 h at 3e8 per second)
   /// Timeouts and connection limits (docs/api.md, "Connections").
   int request_timeout_ms = 10000;
   int keep_alive_timeout_ms = 5000;

@@ -99,8 +99,8 @@ bool curve_choice(const http::Request& req, http::Response& res, const json& spe
   if (std::find(names.begin(), names.end(), choice.y) != names.end()) return true;
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  http::error(res, 400, "invalid_value", "'y' must be a curve column of this experiment (" + list + "), got '" + choice.y + "'",
-              "y");
+  http::error(res, 400, "invalid_value",
+              "'y' must be a curve column of this experiment (" + list + "), got '" + choice.y + "'", "y");
   return false;
 }
 

@@ -26,9 +26,11 @@ nlohmann::json latest_values(JobStore& store, const JobRecord& job);
 std::optional<nlohmann::json> curve_columns(JobStore& store, const JobRecord& job);
 /// The job's curve drawn (api/pictures), titled with its label (or "job N") and, unless it succeeded, its
 /// status; nullopt when it has no rows yet.
-std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job, const pictures::CurveChoice& choice = {});
+std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job,
+                                         const pictures::CurveChoice& choice = {});
 /// The reader's choice of units (?units=natural|si) and column (?y=, one of the experiment's curve
 /// columns) for the curve pictures; false after a 400 naming the parameter.
-bool curve_choice(const http::Request& req, http::Response& res, const nlohmann::json& spec, pictures::CurveChoice& choice);
+bool curve_choice(const http::Request& req, http::Response& res, const nlohmann::json& spec,
+                  pictures::CurveChoice& choice);
 
 }  // namespace granulab::server

@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
       std::error_code ec;
       std::filesystem::create_directories(std::filesystem::path(db).parent_path(), ec);
       if (ec)
-        throw std::runtime_error("cannot create the database folder '" + std::filesystem::path(db).parent_path().string() +
-                                 "': " + ec.message());
+        throw std::runtime_error("cannot create the database folder '" +
+                                 std::filesystem::path(db).parent_path().string() + "': " + ec.message());
     }
     std::optional<InstanceLock> lock;
     if (db != ":memory:") lock.emplace(db);
@@ -152,7 +152,8 @@ int main(int argc, char** argv) {
         slurm_options.rest.jwt = jwt;
       }
       if (slurm_options.worker_binary.empty())
-        slurm_options.worker_binary = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
+        slurm_options.worker_binary =
+            (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
       slurm_options.threads_per_job = threads;
       slurm_options.checkpoint_seconds = checkpoint_seconds;
       auto slurm_executor = std::make_unique<slurm::SlurmExecutor>(store, slurm_options);
@@ -175,7 +176,9 @@ int main(int argc, char** argv) {
                        mount_export_routes, mount_web_routes, mount_worker_routes})
       http.mount(group);
     const int bound = http.bind(host, port);
-    if (bound < 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) + " (is another server using the port?)");
+    if (bound < 0)
+      throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) +
+                               " (is another server using the port?)");
     if (cluster) {
       // The nodes reach this daemon at --public-url; by default the address it listens on (its host name when
       // it listens on every address).
@@ -187,9 +190,10 @@ int main(int argc, char** argv) {
         }
         cluster->set_public_url("http://" + name + ":" + std::to_string(bound));
         if (name.rfind("127.", 0) == 0 || name == "localhost" || name == "::1")
-          spdlog::warn("the Slurm jobs reach this daemon at {}, a loopback address: only nodes on this machine can; "
-                       "give --public-url (or --host) for a cluster",
-                       cluster->public_url());
+          spdlog::warn(
+              "the Slurm jobs reach this daemon at {}, a loopback address: only nodes on this machine can; "
+              "give --public-url (or --host) for a cluster",
+              cluster->public_url());
       }
       spdlog::info("jobs run on the Slurm cluster at {}: {}; its nodes reach this daemon at {}", slurm_options.rest.url,
                    cluster->cluster(), cluster->public_url());
@@ -201,12 +205,13 @@ int main(int argc, char** argv) {
       spdlog::info("signal {}: stopping", sig);
       http.stop();
     });
-    spdlog::info("granulabd listening on http://{}:{} (db {}, {}, {}); the web page is "
-                 "http://{}:{}/, the API document /v1/openapi.json",
-                 host, bound, db,
-                 on_slurm ? "jobs on Slurm, " + std::to_string(threads) + " thread(s) each by default"
-                          : std::to_string(workers) + " worker(s) x " + std::to_string(threads) + " thread(s)",
-                 options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
+    spdlog::info(
+        "granulabd listening on http://{}:{} (db {}, {}, {}); the web page is "
+        "http://{}:{}/, the API document /v1/openapi.json",
+        host, bound, db,
+        on_slurm ? "jobs on Slurm, " + std::to_string(threads) + " thread(s) each by default"
+                 : std::to_string(workers) + " worker(s) x " + std::to_string(threads) + " thread(s)",
+        options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
     http.serve();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.

@@ -9,7 +9,8 @@ namespace granulab::server {
 nlohmann::json openapi_document() {
   const auto text = embedded_file("docs/openapi.json");
   nlohmann::json doc = text ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
-  if (!doc.is_object()) doc = {{"openapi", "3.1.0"}, {"info", {{"title", "granulab"}}}, {"paths", nlohmann::json::object()}};
+  if (!doc.is_object())
+    doc = {{"openapi", "3.1.0"}, {"info", {{"title", "granulab"}}}, {"paths", nlohmann::json::object()}};
   doc["info"]["version"] = api::engine_version();
   // The file holds these too (a test keeps them equal); the registry is what this build accepts.
   const nlohmann::json schemas = api::spec_schemas_json();  // named: items() of a temporary would dangle

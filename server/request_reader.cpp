@@ -77,9 +77,9 @@ RequestReader::State RequestReader::advance() {
     const std::size_t end = std::min(crlf, lf);
     if (end == std::string::npos || end > limits_.max_head_bytes) {
       if (buffer_.size() > limits_.max_head_bytes)
-        return reject(431, "head_too_large",
-                      "request line and headers larger than the limit of " + std::to_string(limits_.max_head_bytes) +
-                          " bytes");
+        return reject(
+            431, "head_too_large",
+            "request line and headers larger than the limit of " + std::to_string(limits_.max_head_bytes) + " bytes");
       return state_;
     }
     if (parse_head(end, end == crlf ? 4 : 2) != State::need_more) return state_;
@@ -100,18 +100,23 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
     if (request_line) {
       head_ = line + "\r\n";
       const auto first = line.find(' '), second = line.find(' ', first == std::string::npos ? first : first + 1);
-      if (first != std::string::npos && second != std::string::npos) target = line.substr(first + 1, second - first - 1);
+      if (first != std::string::npos && second != std::string::npos)
+        target = line.substr(first + 1, second - first - 1);
       continue;
     }
     // Strict names: no folded lines (a leading space or tab), no space in or after a name. Lenient parsing
     // here, and a proxy in front parsing strictly, is how requests get smuggled past it.
     const auto colon = line.find(':');
     if (colon == std::string::npos || colon == 0 || line.find_first_of(" \t") < colon)
-      return reject(400, "bad_request", "malformed header line (expected 'Name: value', no folding, no space in the name)");
+      return reject(400, "bad_request",
+                    "malformed header line (expected 'Name: value', no folding, no space in the name)");
     const std::string name = lower(line.substr(0, colon)), value = trim(line.substr(colon + 1));
     if (name == "content-length") {
-      const bool digits = !value.empty() && std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
-      if (!digits) return reject(400, "bad_request", "Content-Length must be a number of bytes, got '" + value.substr(0, 32) + "'");
+      const bool digits =
+          !value.empty() && std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+      if (!digits)
+        return reject(400, "bad_request",
+                      "Content-Length must be a number of bytes, got '" + value.substr(0, 32) + "'");
       if (value.size() > 18)  // more than any body could be: no need to parse it
         return reject(413, "too_large",
                       "request body larger than the limit of " + std::to_string(limits_.max_body_bytes) + " bytes");
@@ -128,7 +133,8 @@ RequestReader::State RequestReader::parse_head(std::size_t head_end, std::size_t
     } else if (name == "content-encoding") {
       // cpp-httplib would inflate a gzip body after the size check: 1 MiB of gzip is a gigabyte of JSON.
       if (lower(value) != "identity")
-        return reject(415, "unsupported_encoding", "request bodies must not be compressed, got 'Content-Encoding: " + value + "'");
+        return reject(415, "unsupported_encoding",
+                      "request bodies must not be compressed, got 'Content-Encoding: " + value + "'");
     } else if (name == "expect") {
       if (lower(value) != "100-continue")
         return reject(417, "expectation_failed", "only 'Expect: 100-continue' is supported, got '" + value + "'");
@@ -170,8 +176,9 @@ RequestReader::State RequestReader::read_chunks() {
           return wait();
         }
         const std::string hex = trim(line.substr(0, line.find(';')));
-        const bool valid = !hex.empty() && hex.size() <= 15 &&
-                           std::all_of(hex.begin(), hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+        const bool valid = !hex.empty() && hex.size() <= 15 && std::all_of(hex.begin(), hex.end(), [](char c) {
+          return std::isxdigit(static_cast<unsigned char>(c));
+        });
         if (!valid) return reject(400, "bad_request", "malformed chunk size '" + hex.substr(0, 32) + "'");
         chunk_remaining_ = std::stoull(hex, nullptr, 16);  // cannot throw: 1 to 15 hex digits
         at = newline + 1;
@@ -205,13 +212,15 @@ RequestReader::State RequestReader::read_chunks() {
         break;
       case Chunk::trailer:
         if (!next_line(buffer_, at, newline, line)) {
-          if (buffer_.size() - at > limits_.max_head_bytes) return reject(400, "bad_request", "chunked trailer too long");
+          if (buffer_.size() - at > limits_.max_head_bytes)
+            return reject(400, "bad_request", "chunked trailer too long");
           return wait();
         }
         at = newline + 1;
         trailer_bytes_ += line.size() + 2;
         if (trailer_bytes_ > limits_.max_head_bytes)
-          return reject(400, "bad_request", "chunked trailer longer than " + std::to_string(limits_.max_head_bytes) + " bytes");
+          return reject(400, "bad_request",
+                        "chunked trailer longer than " + std::to_string(limits_.max_head_bytes) + " bytes");
         if (line.empty()) {  // trailer fields are dropped
           buffer_.erase(0, at);
           return finish(0);

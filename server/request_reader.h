@@ -60,7 +60,7 @@ class RequestReader {
   State state_ = State::need_more;
   std::string buffer_;  ///< bytes not yet consumed
   bool head_done_ = false;
-  std::string head_;    ///< request line + headers kept, without the final blank line
+  std::string head_;  ///< request line + headers kept, without the final blank line
   bool chunked_ = false;
   enum class Chunk { size_line, data, data_end, trailer } chunk_ = Chunk::size_line;
   std::size_t chunk_remaining_ = 0;
@@ -68,7 +68,7 @@ class RequestReader {
   bool received_ = false;
   std::size_t content_length_ = 0;
   std::size_t body_limit_ = 0;  ///< max_body_bytes, or max_trusted_body_bytes for a trusted request
-  std::string body_;    ///< decoded chunked body so far
+  std::string body_;            ///< decoded chunked body so far
   bool continue_pending_ = false;
   std::string request_, leftover_;
   int reject_status_ = 0;

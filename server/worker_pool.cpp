@@ -1,5 +1,7 @@
 #include "server/worker_pool.h"
 
+#include <algorithm>
+
 #include <omp.h>
 
 #include <chrono>
@@ -68,6 +70,9 @@ void WorkerPool::run_job(const JobRecord& job) {
     StoreSink sink(store_, job.id, stopping_, progress_seconds_, checkpoint_seconds_, api::engine_version());
     try {
       const api::Spec spec = api::parse_spec_text(job.spec_json);
+      // The spec's run.threads when it asks for fewer than the worker's share (a small crystal runs faster
+      // on one thread than two: each parallel region costs a wake-up); 0, or more, is the share.
+      omp_set_num_threads(spec.threads > 0 ? std::min(spec.threads, threads_per_job_) : threads_per_job_);
       api::run(spec, sink, resume ? &*resume : nullptr);
       spdlog::info("job {} succeeded in {:.1f} s; results written in {} batches taking {:.3f} s", job.id,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), sink.flushes(),

@@ -24,8 +24,8 @@ std::vector<double> column(const json& curve, const std::string& name, double fa
 }
 
 std::string title_of(const json& spec, const std::string& fallback) {
-  const std::string label = spec.is_object() && spec.contains("label") && spec["label"].is_string()
-                                ? spec["label"].get<std::string>() : "";
+  const std::string label =
+      spec.is_object() && spec.contains("label") && spec["label"].is_string() ? spec["label"].get<std::string>() : "";
   return label.empty() ? fallback : label;
 }
 
@@ -132,7 +132,8 @@ LinePlot job_curve_plot(const json& spec, const json& curve, const json& summary
   plot.x_label = x.label, plot.y_label = d.y_label;
   const std::vector<double> xs = column(curve, h.x_column, x.factor);
   for (std::size_t k = 0; k < d.series.size(); ++k)
-    plot.series.push_back({d.series[k].label, xs, column(curve, d.series[k].column, d.series[k].factor), palette(k), false});
+    plot.series.push_back(
+        {d.series[k].label, xs, column(curve, d.series[k].column, d.series[k].factor), palette(k), false});
   if (choice.y.empty()) {
     for (const ReferenceCurve& r : h.references) {
       std::vector<double> rx, ry = choice.units == Units::si ? r.y_si : r.y_natural;
@@ -148,7 +149,8 @@ LinePlot job_curve_plot(const json& spec, const json& curve, const json& summary
     const auto value = api::number_at_path(summary, v.key);
     if (!value) continue;
     Marker m;
-    m.label = std::string(v.label) + " " + num(*value, 3) + (std::string(v.unit) == "-" ? "" : " " + std::string(v.unit));
+    m.label =
+        std::string(v.label) + " " + num(*value, 3) + (std::string(v.unit) == "-" ? "" : " " + std::string(v.unit));
     const auto at_x = v.at_x ? api::number_at_path(summary, v.at_x) : std::nullopt;
     const auto at_y = v.at_y ? api::number_at_path(summary, v.at_y) : std::nullopt;
     if (at_x) {
@@ -156,7 +158,7 @@ LinePlot job_curve_plot(const json& spec, const json& curve, const json& summary
       m.label += " at " + num(*at_x * x.factor, 3) + " " + sx.unit;
     }
     m.on_curve = at_x && at_y && first_drawn;
-    if (m.on_curve) m.x = *at_x * x.factor, m.y = *at_y * y_factor;
+    if (m.on_curve) m.x = at_x.value_or(0) * x.factor, m.y = at_y.value_or(0) * y_factor;
     plot.markers.push_back(m);
   }
   return plot;

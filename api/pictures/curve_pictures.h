@@ -38,7 +38,7 @@ LinePlot job_curve_plot(const nlohmann::json& spec, const nlohmann::json& curve,
 struct SweepCurve {
   nlohmann::json values;  ///< the varied values, {"dotted.key": value}
   nlohmann::json spec;
-  nlohmann::json curve;   ///< as for job_curve_plot; may have no rows yet
+  nlohmann::json curve;  ///< as for job_curve_plot; may have no rows yet
   std::string status;
 };
 /// A sweep's curves overlaid (each job's first headline series, or the chosen column), labelled by their values.

@@ -9,8 +9,8 @@
 namespace granulab::pictures {
 
 const std::string& palette(std::size_t i) {
-  static const std::vector<std::string> colours = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00",
-                                                   "#56B4E9", "#000000", "#F0E442"};
+  static const std::vector<std::string> colours = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                                   "#E69F00", "#56B4E9", "#000000", "#F0E442"};
   return colours[i % colours.size()];
 }
 
@@ -80,14 +80,18 @@ std::string line_plot_svg(const LinePlot& plot) {
            "</text>\n";
   // Grid and ticks.
   svg += "<g class=\"grid\" stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
-  for (double t : xt) svg += "<line x1=\"" + num(X(t)) + "\" y1=\"" + num(top) + "\" x2=\"" + num(X(t)) + "\" y2=\"" + num(top + ph) + "\"/>\n";
-  for (double t : yt) svg += "<line x1=\"" + num(left) + "\" y1=\"" + num(Y(t)) + "\" x2=\"" + num(left + pw) + "\" y2=\"" + num(Y(t)) + "\"/>\n";
+  for (double t : xt)
+    svg += "<line x1=\"" + num(X(t)) + "\" y1=\"" + num(top) + "\" x2=\"" + num(X(t)) + "\" y2=\"" + num(top + ph) +
+           "\"/>\n";
+  for (double t : yt)
+    svg += "<line x1=\"" + num(left) + "\" y1=\"" + num(Y(t)) + "\" x2=\"" + num(left + pw) + "\" y2=\"" + num(Y(t)) +
+           "\"/>\n";
   svg += "</g>\n<g class=\"axes\">\n<rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(pw) +
          "\" height=\"" + num(ph) + "\" fill=\"none\" stroke=\"#333\"/>\n";
   for (double t : xt)
-    svg += "<line x1=\"" + num(X(t)) + "\" y1=\"" + num(top + ph) + "\" x2=\"" + num(X(t)) + "\" y2=\"" + num(top + ph + 5) +
-           "\" stroke=\"#333\"/><text x=\"" + num(X(t)) + "\" y=\"" + num(top + ph + 19) + "\" text-anchor=\"middle\">" +
-           tick_label(t, xt.size() > 1 ? xt[1] - xt[0] : xstep) + "</text>\n";
+    svg += "<line x1=\"" + num(X(t)) + "\" y1=\"" + num(top + ph) + "\" x2=\"" + num(X(t)) + "\" y2=\"" +
+           num(top + ph + 5) + "\" stroke=\"#333\"/><text x=\"" + num(X(t)) + "\" y=\"" + num(top + ph + 19) +
+           "\" text-anchor=\"middle\">" + tick_label(t, xt.size() > 1 ? xt[1] - xt[0] : xstep) + "</text>\n";
   for (double t : yt)
     svg += "<line x1=\"" + num(left - 5) + "\" y1=\"" + num(Y(t)) + "\" x2=\"" + num(left) + "\" y2=\"" + num(Y(t)) +
            "\" stroke=\"#333\"/><text x=\"" + num(left - 8) + "\" y=\"" + num(Y(t) + 4) + "\" text-anchor=\"end\">" +
@@ -98,8 +102,9 @@ std::string line_plot_svg(const LinePlot& plot) {
          xml_escape(plot.y_label) + "</text>\n</g>\n";
 
   // Curves, clipped to the plotting area.
-  svg += "<clipPath id=\"area\"><rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(pw) + "\" height=\"" +
-         num(ph) + "\"/></clipPath>\n<g clip-path=\"url(#area)\" fill=\"none\" stroke-width=\"1.8\" stroke-linejoin=\"round\">\n";
+  svg += "<clipPath id=\"area\"><rect x=\"" + num(left) + "\" y=\"" + num(top) + "\" width=\"" + num(pw) +
+         "\" height=\"" + num(ph) +
+         "\"/></clipPath>\n<g clip-path=\"url(#area)\" fill=\"none\" stroke-width=\"1.8\" stroke-linejoin=\"round\">\n";
   std::vector<std::string> colours;
   std::size_t next_colour = 0;
   for (const Series& s : plot.series) {
@@ -133,15 +138,18 @@ std::string line_plot_svg(const LinePlot& plot) {
       const Series& s = plot.series[i];
       if (s.label.empty()) continue;
       svg += "<line x1=\"" + num(left + pw + 12) + "\" y1=\"" + num(y) + "\" x2=\"" + num(left + pw + 38) + "\" y2=\"" +
-             num(y) + "\" stroke=\"" + colours[i] + "\" stroke-width=\"2\"" + (s.dashed ? " stroke-dasharray=\"7 5\"" : "") +
-             "/><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" + xml_escape(s.label) + "</text>\n";
+             num(y) + "\" stroke=\"" + colours[i] + "\" stroke-width=\"2\"" +
+             (s.dashed ? " stroke-dasharray=\"7 5\"" : "") + "/><text x=\"" + num(left + pw + 44) + "\" y=\"" +
+             num(y + 4) + "\">" + xml_escape(s.label) + "</text>\n";
       y += 18;
     }
     for (std::size_t k = 0; k < plot.markers.size(); ++k) {
       const Marker& m = plot.markers[k];
       const double cx = left + pw + 25;
-      svg += "<circle cx=\"" + num(cx) + "\" cy=\"" + num(y) + "\" r=\"6\" fill=\"white\" stroke=\"#c00\" stroke-width=\"1.5\"/>"
-             "<text x=\"" + num(cx) + "\" y=\"" + num(y + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
+      svg += "<circle cx=\"" + num(cx) + "\" cy=\"" + num(y) +
+             "\" r=\"6\" fill=\"white\" stroke=\"#c00\" stroke-width=\"1.5\"/>"
+             "<text x=\"" +
+             num(cx) + "\" y=\"" + num(y + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
              std::to_string(k + 1) + "</text><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" +
              xml_escape(m.label) + "</text>\n";
       y += 18;

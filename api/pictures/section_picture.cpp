@@ -42,8 +42,8 @@ double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
 
 // Lattice measures from the reference state (position - displacement).
 struct Layers {
-  double neighbour = 0;   // FCC nearest-neighbour distance a'/sqrt2 (m)
-  std::vector<int> layer; // per grain
+  double neighbour = 0;    // FCC nearest-neighbour distance a'/sqrt2 (m)
+  std::vector<int> layer;  // per grain
   int count = 0;
 };
 
@@ -127,7 +127,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   double x0 = 1e300, x1 = -1e300, z0 = 1e300, z1 = -1e300, lo = 1e300, hi = -1e300;
   for (std::size_t i : grains) {
     shapes.push_back(cross_section(edges, s.position[i], s.orientation[i]));
-    for (const auto& p : shapes.back()) x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), z0 = std::min(z0, p[1]), z1 = std::max(z1, p[1]);
+    for (const auto& p : shapes.back())
+      x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), z0 = std::min(z0, p[1]), z1 = std::max(z1, p[1]);
     const double v = field_value(s, field, i) * fi.scale;
     if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   }
@@ -140,7 +141,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   const double margin = 20, top = 60, pw = (x1 - x0) * scale, ph = (z1 - z0) * scale;
   // Wide enough for the title (about 8.5 px per character of 15 px bold text), up to 1,200 px; tall enough for
   // the colour bar (a wide, flat layer is short).
-  const double bar_x = margin + pw + 30, W = std::min(std::max(bar_x + 130, 8.5 * double(title.size()) + 40), std::max(bar_x + 130, 1200.0));
+  const double bar_x = margin + pw + 30,
+               W = std::min(std::max(bar_x + 130, 8.5 * double(title.size()) + 40), std::max(bar_x + 130, 1200.0));
   const double H = top + std::max(ph, 220.0) + 40;
   const auto X = [&](double x) { return margin + (x - x0) * scale; };
   const auto Z = [&](double z) { return top + (z1 - z) * scale; };  // z (compression axis) up
@@ -161,8 +163,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
     const double v = field_value(s, field, grains[k]) * fi.scale;
     std::string points;
     for (const auto& p : shapes[k]) points += num(X(p[0]), 6) + "," + num(Z(p[1]), 6) + " ";
-    svg += "<polygon class=\"grain\" data-id=\"" + std::to_string(value(s.id[grains[k]])) + "\" data-value=\"" + num(v, 6) +
-           "\" fill=\"" + viridis((v - lo) / (hi - lo)) + "\" points=\"" + points + "\"/>\n";
+    svg += "<polygon class=\"grain\" data-id=\"" + std::to_string(value(s.id[grains[k]])) + "\" data-value=\"" +
+           num(v, 6) + "\" fill=\"" + viridis((v - lo) / (hi - lo)) + "\" points=\"" + points + "\"/>\n";
   }
   svg += "</g>\n";
 
@@ -187,8 +189,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
     if (!(length > 0)) continue;
     bx /= length, bz /= length;
     const double h = 0.5 * layers.neighbour / std::sqrt(3.0);
-    svg += "<line x1=\"" + num(X(mx - h * bz), 6) + "\" y1=\"" + num(Z(mz + h * bx), 6) + "\" x2=\"" + num(X(mx + h * bz), 6) +
-           "\" y2=\"" + num(Z(mz - h * bx), 6) + "\"/>\n";
+    svg += "<line x1=\"" + num(X(mx - h * bz), 6) + "\" y1=\"" + num(Z(mz + h * bx), 6) + "\" x2=\"" +
+           num(X(mx + h * bz), 6) + "\" y2=\"" + num(Z(mz - h * bx), 6) + "\"/>\n";
     ++sliding;
   }
   svg += "</g>\n";
@@ -212,9 +214,9 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   }
   svg += "<text transform=\"translate(" + num(bar_x + 95) + "," + num(bar_top + bar_h / 2) +
          ") rotate(-90)\" text-anchor=\"middle\">" + xml_escape(fi.label) + "</text>\n</g>\n";
-  svg += "<text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 28) + "\" font-size=\"11\">" + std::to_string(sliding) +
-           " interfaces</text><text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 42) +
-           "\" font-size=\"11\">sliding &gt; 2x mean</text>\n";
+  svg += "<text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 28) + "\" font-size=\"11\">" +
+         std::to_string(sliding) + " interfaces</text><text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 42) +
+         "\" font-size=\"11\">sliding &gt; 2x mean</text>\n";
   return svg + "</svg>\n";
 }
 

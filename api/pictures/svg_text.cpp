@@ -58,7 +58,10 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
   const double power = std::pow(10.0, std::floor(std::log10(raw)));
   double step = power;
   for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * power >= raw) { step = m * power; break; }
+    if (m * power >= raw) {
+      step = m * power;
+      break;
+    }
   std::vector<double> ticks;
   for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step && ticks.size() < 50; t += step)
     ticks.push_back(std::abs(t) < 1e-9 * step ? 0.0 : t);
@@ -68,10 +71,8 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
 std::string tick_label(double x, double step) {
   const int decimals = std::clamp(int(std::ceil(-std::log10(std::abs(step)) - 1e-9)), 0, 12);
   char text[40];
-  if (std::abs(x) >= 1e6 || (std::abs(x) > 0 && std::abs(x) < 1e-4))
-    std::snprintf(text, sizeof text, "%.3g", x);
-  else
-    std::snprintf(text, sizeof text, "%.*f", decimals, x);
+  if (std::abs(x) >= 1e6 || (std::abs(x) > 0 && std::abs(x) < 1e-4)) std::snprintf(text, sizeof text, "%.3g", x);
+  else std::snprintf(text, sizeof text, "%.*f", decimals, x);
   return text;
 }
 

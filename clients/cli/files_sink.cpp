@@ -76,7 +76,8 @@ void FilesSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
 
 bool FilesSink::checkpoint_due() {
   return !checkpoint_file_.empty() && checkpoint_seconds_ > 0 &&  // 0 = never, as for granulabd
-         std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >= checkpoint_seconds_;
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >=
+             checkpoint_seconds_;
 }
 
 void FilesSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
@@ -101,7 +102,8 @@ void FilesSink::summary(const nlohmann::json& summary) {
   const nlohmann::json spec = s.contains("spec") ? s["spec"] : nlohmann::json::object();
   std::ifstream csv(dir_ / "curve.csv", std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
-  write_file(dir_ / "curve.svg", pictures::line_plot_svg(pictures::job_curve_plot(spec, api::curve_csv_to_json(text), s)));
+  write_file(dir_ / "curve.svg",
+             pictures::line_plot_svg(pictures::job_curve_plot(spec, api::curve_csv_to_json(text), s)));
   write_file(dir_ / "summary.json", s.dump(2) + "\n");
   if (!checkpoint_file_.empty()) fs::remove(checkpoint_file_);  // a finished run is not resumed
 }

@@ -50,17 +50,20 @@ double number_at(const json& j, const std::string& dotted, double fallback = 0) 
 }  // namespace
 
 std::string job_line(const json& job, const json& headline, int bar_width) {
-  const std::string status = job.contains("status") && job["status"].is_string() ? job["status"].get<std::string>() : "?";
+  const std::string status =
+      job.contains("status") && job["status"].is_string() ? job["status"].get<std::string>() : "?";
   const double progress = std::clamp(number(job, "progress"), 0.0, 1.0);
   const int filled = int(progress * bar_width + 0.5);
   char head[160];
   std::snprintf(head, sizeof head, "job %-5lld %-9s [%s%s] %5.1f %%", (long long)number(job, "id"), status.c_str(),
-                std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(bar_width - filled), '.').c_str(),
-                100 * progress);
+                std::string(std::size_t(filled), '#').c_str(),
+                std::string(std::size_t(bar_width - filled), '.').c_str(), 100 * progress);
   std::string line = head;
-  if (status == api::status_name(api::JobStatus::running) && job.contains("eta_seconds")) line += "  ETA " + duration(number(job, "eta_seconds"));
+  if (status == api::status_name(api::JobStatus::running) && job.contains("eta_seconds"))
+    line += "  ETA " + duration(number(job, "eta_seconds"));
   // On a cluster, while it waits there: Slurm's word on why (e.g. "Slurm 123: PENDING (Resources)").
-  if (status == api::status_name(api::JobStatus::queued) && job.contains("slurm_state") && job["slurm_state"].is_string())
+  if (status == api::status_name(api::JobStatus::queued) && job.contains("slurm_state") &&
+      job["slurm_state"].is_string())
     line += "  Slurm " + job.value("slurm_job_id", std::string("?")) + ": " + job["slurm_state"].get<std::string>();
   // The latest x and first series of a running job, the key values of a finished one, in natural units.
   if (headline.is_object()) {
@@ -82,10 +85,12 @@ std::string job_line(const json& job, const json& headline, int bar_width) {
     if (job.contains("latest") && job["latest"].is_object()) {
       const json& l = job["latest"];
       const std::string xc = x.value("column", std::string());
-      if (l.contains(xc) && l[xc].is_number()) line += "  " + x.value("label", xc) + " " + reading(x, l[xc].get<double>());
+      if (l.contains(xc) && l[xc].is_number())
+        line += "  " + x.value("label", xc) + " " + reading(x, l[xc].get<double>());
       if (!series.empty()) {
         const std::string yc = series[0].value("column", std::string());
-        if (l.contains(yc) && l[yc].is_number()) line += "  " + series[0].value("label", yc) + " " + reading(y, l[yc].get<double>());
+        if (l.contains(yc) && l[yc].is_number())
+          line += "  " + series[0].value("label", yc) + " " + reading(y, l[yc].get<double>());
       }
     }
     const json summary = job.value("summary", json());
@@ -112,14 +117,16 @@ json headlines(const JsonGetter& get) {
   json out = json::object();
   const json described = get("/v1/experiments");
   for (const json& e : described.value("experiments", json::array()))
-    if (e.contains("name") && e["name"].is_string() && e.contains("headline")) out[e["name"].get<std::string>()] = e["headline"];
+    if (e.contains("name") && e["name"].is_string() && e.contains("headline"))
+      out[e["name"].get<std::string>()] = e["headline"];
   return out;
 }
 
 int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
   interrupted = false;
   const json known = headlines(get);
-  struct sigaction action {}, previous {};
+  struct sigaction action {
+  }, previous{};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, &previous);

@@ -49,7 +49,8 @@ const char* kUsage =
     "job, then writes DIR/sweep.csv (a row per job: values, status, first yield, peak) and DIR/<id>/ per job.\n"
     "wait: a live line per job (progress, ETA, latest strain and stress); exit 0 when all succeeded; Ctrl-C stops\n"
     "waiting, not the jobs.\n"
-    "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60, 0 = never); --resume continues\n"
+    "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60, 0 = never); --resume "
+    "continues\n"
     "a killed run of the same spec from there, bit for bit (no checkpoint yet: it starts from zero).\n"
     "The spec's fields: docs/spec.md or `granulab experiments --markdown` (every field has a default).\n";
 
@@ -133,7 +134,8 @@ int run(int argc, char** argv) {
     else if (spec_path.empty() && a.rfind("--", 0) != 0) spec_path = a;
     else throw std::invalid_argument("unexpected argument '" + a + "'\n" + kUsage);
   }
-  if (spec_path.empty() || out_dir.empty()) throw std::invalid_argument(std::string("run needs SPEC and --out DIR\n") + kUsage);
+  if (spec_path.empty() || out_dir.empty())
+    throw std::invalid_argument(std::string("run needs SPEC and --out DIR\n") + kUsage);
   if (resume && checkpoint_dir.empty()) throw std::invalid_argument("--resume needs --checkpoint-dir CDIR");
 
   api::Spec spec;
@@ -149,9 +151,9 @@ int run(int argc, char** argv) {
   ProgressPrinter printer(quiet);
   // One checkpoint file per spec (and build): another spec's or build's is never picked up by mistake.
   const fs::path checkpoint_file =
-      checkpoint_dir.empty() ? fs::path()
-                             : fs::path(checkpoint_dir) / ("checkpoint_" + api::spec_hash(spec.normalized) + "_" +
-                                                           build_id() + ".bin");
+      checkpoint_dir.empty()
+          ? fs::path()
+          : fs::path(checkpoint_dir) / ("checkpoint_" + api::spec_hash(spec.normalized) + "_" + build_id() + ".bin");
   std::optional<api::Resume> from;
   if (resume && fs::exists(checkpoint_file)) {
     from = api::unpack_resume(read_file(checkpoint_file));
@@ -159,14 +161,17 @@ int run(int argc, char** argv) {
   } else if (resume) {
     spdlog::warn("no checkpoint of this spec in {}: starting from zero", checkpoint_dir);
   }
-  cli::FilesSink sink(out, [&](double f) { return printer(f); }, checkpoint_file, checkpoint_seconds);
+  cli::FilesSink sink(
+      out, [&](double f) { return printer(f); }, checkpoint_file, checkpoint_seconds);
   spdlog::info("{}{}: {} thread(s); spec with defaults in {}", spec.name(),
-               spec.label.empty() ? "" : " \"" + spec.label + "\"", omp_get_max_threads(), (out / "summary.json").string());
+               spec.label.empty() ? "" : " \"" + spec.label + "\"", omp_get_max_threads(),
+               (out / "summary.json").string());
   const nlohmann::json summary = api::run(spec, sink, from ? &*from : nullptr);
   for (const auto& w : summary.value("warnings", nlohmann::json::array())) spdlog::warn("{}", w.get<std::string>());
   const double steps = summary["steps"].get<double>(), wall = summary["wall_seconds"].get<double>();
-  spdlog::info("{} grains, {} spheres, {:.0f} steps in {:.1f} s ({:.3g} s/step); curve: {}", summary["grains"].get<long>(),
-               summary["spheres"].get<long>(), steps, wall, steps > 0 ? wall / steps : 0.0, (out / "curve.csv").string());
+  spdlog::info("{} grains, {} spheres, {:.0f} steps in {:.1f} s ({:.3g} s/step); curve: {}",
+               summary["grains"].get<long>(), summary["spheres"].get<long>(), steps, wall,
+               steps > 0 ? wall / steps : 0.0, (out / "curve.csv").string());
   if (profile) print_profile(out / "summary.json");
   return 0;
 }

@@ -73,16 +73,15 @@ Args parse(int argc, char** argv) {
 std::string call(httplib::Client& http, const std::string& server, const std::string& method, const std::string& path,
                  const std::string& body = "") {
   const httplib::Result r = method == "POST"     ? http.Post(path.c_str(), body, "application/json")
-                           : method == "DELETE" ? http.Delete(path.c_str())
-                                                : http.Get(path.c_str());
+                            : method == "DELETE" ? http.Delete(path.c_str())
+                                                 : http.Get(path.c_str());
   if (!r) throw std::runtime_error("cannot reach the server at " + server + " (" + httplib::to_string(r.error()) + ")");
   if (r->status >= 400) {
     std::string message = r->body;
     try {
       const json e = json::parse(r->body);
       message = e["error"]["message"].get<std::string>();
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
     throw std::runtime_error("HTTP " + std::to_string(r->status) + ": " + message);
   }
   return r->body;
@@ -127,11 +126,12 @@ std::string human_cost(const json& c) {
   std::snprintf(text, sizeof text,
                 "%s: %.4g spheres in %.4g grains, at most %.3g steps; peak memory about %.0f MB; %s %s once started "
                 "(at %.3g sphere-steps/s, %s); %lld jobs queued ahead\n",
-                c.value("experiment", "").c_str(), c.value("spheres", 0.0), c.value("grains", 0.0), c.value("steps", 0.0),
-                c.value("memory_bytes", 0.0) / 1e6,
+                c.value("experiment", "").c_str(), c.value("spheres", 0.0), c.value("grains", 0.0),
+                c.value("steps", 0.0), c.value("memory_bytes", 0.0) / 1e6,
                 // Without a similar finished run the time is the step bound's: an upper estimate.
-                c.value("steps_fraction", 1.0) < 1 ? "about" : "at most about", when.c_str(), c.value("sphere_steps_per_second", 0.0),
-                c.value("rate_basis", "").c_str(), c.value("queued_ahead", 0LL));
+                c.value("steps_fraction", 1.0) < 1 ? "about" : "at most about", when.c_str(),
+                c.value("sphere_steps_per_second", 0.0), c.value("rate_basis", "").c_str(),
+                c.value("queued_ahead", 0LL));
   std::string out = text;
   if (c.contains("over_budget")) out += "this server would refuse it: " + c["over_budget"].get<std::string>() + "\n";
   return out;
@@ -156,20 +156,23 @@ int run_sweep(httplib::Client& http, const Args& a) {
   fs::create_directories(out);
   json body = {{"spec", spec}, {"vary", vary}, {"mode", a.zip ? "zip" : "product"}};
   if (!a.label.empty()) body["label"] = a.label;
-  const json created = json::parse(call(http, a.server, "POST", "/v1/sweeps?priority=" + std::to_string(a.priority), body.dump()));
+  const json created =
+      json::parse(call(http, a.server, "POST", "/v1/sweeps?priority=" + std::to_string(a.priority), body.dump()));
   const std::string sweep = std::to_string(created["id"].get<long long>());
   std::vector<std::string> ids;
   for (const json& id : created["jobs"]) ids.push_back(std::to_string(id.get<long long>()));
   std::fprintf(stderr, "sweep %s: %zu jobs (%s/v1/sweeps/%s; the page: %s/#/sweeps/%s)\n", sweep.c_str(), ids.size(),
                a.server.c_str(), sweep.c_str(), a.server.c_str(), sweep.c_str());
-  const int waited = watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, ids);
+  const int waited =
+      watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, ids);
   if (waited == 130) return waited;
   // The table: one row per job, its varied values, status and its experiment's key values (the headline's,
   // with where on the curve they are), each column named by its dotted summary path with '_' for '.'.
   const json table = json::parse(call(http, a.server, "GET", "/v1/sweeps/" + sweep));
   const json known = headlines([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); });
   const std::string experiment =  // every point of a sweep is of the base spec's experiment
-      ids.empty() ? "" : json::parse(call(http, a.server, "GET", "/v1/jobs/" + ids[0])).value("experiment", std::string());
+      ids.empty() ? ""
+                  : json::parse(call(http, a.server, "GET", "/v1/jobs/" + ids[0])).value("experiment", std::string());
   std::vector<std::string> paths;
   if (known.contains(experiment))
     for (const json& v : known[experiment].value("values", json::array()))
@@ -182,7 +185,8 @@ int run_sweep(httplib::Client& http, const Args& a) {
   csv += ",warnings\n";
   for (const json& j : table["jobs"]) {
     csv += std::to_string(j["id"].get<long long>());
-    for (const auto& [key, values] : vary.items()) csv += "," + (j["values"].contains(key) ? j["values"][key].dump() : "");
+    for (const auto& [key, values] : vary.items())
+      csv += "," + (j["values"].contains(key) ? j["values"][key].dump() : "");
     csv += "," + j["status"].get<std::string>();
     for (const std::string& p : paths) {
       char text[40] = "";
@@ -238,7 +242,8 @@ int run_remote(int argc, char** argv) {
   }
   if (a.command == "priority") {
     if (!a.priority_given) throw std::invalid_argument("'priority' needs --priority N");
-    std::cout << call(http, a.server, "POST", "/v1/jobs/" + need_id(a) + "/priority?value=" + std::to_string(a.priority));
+    std::cout << call(http, a.server, "POST",
+                      "/v1/jobs/" + need_id(a) + "/priority?value=" + std::to_string(a.priority));
     return 0;
   }
   if (a.command == "list") {
@@ -247,17 +252,19 @@ int run_remote(int argc, char** argv) {
     if (!a.owner.empty()) path += "&owner=" + httplib::detail::encode_query_param(a.owner);
     const json list = json::parse(call(http, a.server, "GET", path));  // named: a temporary would dangle
     for (const json& j : list["jobs"])
-      std::printf("%6lld  %-10s %5.1f %%  %-20s %s%s\n", j["id"].get<long long>(), j["status"].get<std::string>().c_str(),
-                  100 * j["progress"].get<double>(), j["experiment"].get<std::string>().c_str(),
-                  j["label"].get<std::string>().c_str(),
+      std::printf("%6lld  %-10s %5.1f %%  %-20s %s%s\n", j["id"].get<long long>(),
+                  j["status"].get<std::string>().c_str(), 100 * j["progress"].get<double>(),
+                  j["experiment"].get<std::string>().c_str(), j["label"].get<std::string>().c_str(),
                   j.contains("warnings") ? ("  (" + std::to_string(j["warnings"].size()) + " warnings)").c_str() : "");
     return 0;
   }
   if (a.command == "wait") {
     if (a.targets.empty()) throw std::invalid_argument("'wait' needs one or more job ids");
     for (const std::string& id : a.targets)
-      if (id.find_first_not_of("0123456789") != std::string::npos) throw std::invalid_argument("'" + id + "' is not a job id");
-    return watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); }, a.targets);
+      if (id.find_first_not_of("0123456789") != std::string::npos)
+        throw std::invalid_argument("'" + id + "' is not a job id");
+    return watch_jobs([&](const std::string& path) { return json::parse(call(http, a.server, "GET", path)); },
+                      a.targets);
   }
   if (a.command == "results") {
     const std::string id = need_id(a);

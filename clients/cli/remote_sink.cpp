@@ -67,7 +67,8 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
   if (!wait && failing_since_ && seconds_since(last_attempt_) < retry_after_) throw Unavailable("the daemon is away");
   for (;;) {
     last_attempt_ = Clock::now();
-    const httplib::Result r = method == "GET" ? http_->Get(path, headers) : http_->Post(path, headers, body, content_type);
+    const httplib::Result r =
+        method == "GET" ? http_->Get(path, headers) : http_->Post(path, headers, body, content_type);
     std::string problem;
     if (!r) {
       problem = "cannot reach " + server_ + " (" + httplib::to_string(r.error()) + ")";
@@ -127,7 +128,9 @@ void RemoteSink::begin(const std::vector<CurveColumn>& columns, const api::Resum
   rows_sent_ = resume ? resume->rows : 0;
 }
 
-void RemoteSink::curve_row(const std::vector<double>& values) { lines_.push_back(api::curve_csv_line(columns_, values)); }
+void RemoteSink::curve_row(const std::vector<double>& values) {
+  lines_.push_back(api::curve_csv_line(columns_, values));
+}
 
 void RemoteSink::snapshot(std::size_t index, const GrainSnapshot& s) {
   snapshots_.push_back({{"index", index}, {"strain", s.strain}, {"data", api::snapshot_json(s).dump()}});
@@ -183,7 +186,7 @@ void RemoteSink::checkpoint(const std::string& state, std::size_t rows, std::siz
   const bool wait = stop_signal_ != 0;
   last_checkpoint_ = Clock::now();
   try {
-    flush(wait);  // the rows and snapshots it follows are stored first
+    flush(wait);                                         // the rows and snapshots it follows are stored first
     if (!lines_.empty() || !snapshots_.empty()) return;  // they were not: no checkpoint this time
     link_.post("/checkpoint?rows=" + std::to_string(rows) + "&snapshots=" + std::to_string(snapshots) +
                    "&engine_version=" + httplib::detail::encode_query_param(engine_version_),

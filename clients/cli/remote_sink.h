@@ -56,7 +56,8 @@ class DaemonLink {
   /// std::runtime_error when the daemon stayed unreachable (or answered 5xx) for the whole patience;
   /// with `wait` false, Unavailable at once instead of retrying.
   std::string get(const std::string& suffix);
-  std::string post(const std::string& suffix, const std::string& body, const std::string& content_type, bool wait = true);
+  std::string post(const std::string& suffix, const std::string& body, const std::string& content_type,
+                   bool wait = true);
   nlohmann::json post_json(const std::string& suffix, const nlohmann::json& body, bool wait = true);
   std::int64_t job() const { return job_; }
 

@@ -144,8 +144,7 @@ int run_worker(int argc, char** argv) {
     } catch (const Cancelled&) {
       try {
         sink.flush();  // what it computed since the last batch
-      } catch (const std::exception&) {
-      }
+      } catch (const std::exception&) {}
       report_end(link, {{"outcome", "cancelled"}});
       spdlog::info("job {} cancelled", job);
       return 0;
@@ -160,8 +159,7 @@ int run_worker(int argc, char** argv) {
     } catch (const std::exception& e) {
       try {
         sink.flush();
-      } catch (const std::exception&) {
-      }
+      } catch (const std::exception&) {}
       report_end(link, {{"outcome", "failed"}, {"error", e.what()}});
       spdlog::error("job {} failed: {}", job, e.what());
       return 1;

@@ -16,9 +16,9 @@ struct GrainSnapshot {
   std::uint64_t step = 0;  ///< time steps since the world was built (-)
   // Per grain, in ascending grain id.
   std::vector<GrainId> id;
-  std::vector<Vec3> position;      ///< centre of mass (m)
-  std::vector<Vec3> displacement;  ///< since the reference state, the start of loading (m)
-  std::vector<Quat> orientation;   ///< body -> lab rotation (unit quaternion)
+  std::vector<Vec3> position;             ///< centre of mass (m)
+  std::vector<Vec3> displacement;         ///< since the reference state, the start of loading (m)
+  std::vector<Quat> orientation;          ///< body -> lab rotation (unit quaternion)
   std::vector<double> penetration;        ///< Delta, sum of the sphere overlaps with other grains (m)
   std::vector<double> penetration_ratio;  ///< Delta / mean Delta over the grains (-)
   std::vector<double> max_shear_strain;   ///< gamma_max = (e1 - e3)/2 of the local Green-Lagrange strain (-)

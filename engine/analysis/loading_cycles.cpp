@@ -50,16 +50,18 @@ std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, cons
     c.unloading_segment = u;
     c.peak_strain = strain[down.first_row], c.peak_deviator = deviator[down.first_row];
     c.residual_strain = strain[down.last_row], c.residual_deviator = deviator[down.last_row];
-    c.loading_slope = branch_secant(strain, deviator, up.first_row, up.last_row, c.peak_deviator - deviator[up.first_row]);
-    c.unloading_slope = branch_secant(strain, deviator, down.first_row, down.last_row, c.residual_deviator - c.peak_deviator);
+    c.loading_slope =
+        branch_secant(strain, deviator, up.first_row, up.last_row, c.peak_deviator - deviator[up.first_row]);
+    c.unloading_slope =
+        branch_secant(strain, deviator, down.first_row, down.last_row, c.residual_deviator - c.peak_deviator);
     c.unloading_slope_end = branch_secant_between(strain, deviator, down.first_row, down.last_row,
                                                   c.residual_deviator - c.peak_deviator, 0.8, 1.0);
     c.reloading_slope = c.reloading_slope_end = c.dissipated_energy = kNaN;
     const std::size_t r = moving(u, +1);
     if (r != std::size_t(-1) && segments[r].direction > 0 && segments[r].last_row < strain.size()) {
       const CurveSegment& again = segments[r];
-      c.reloading_slope = branch_secant(strain, deviator, again.first_row, again.last_row,
-                                        c.peak_deviator - deviator[again.first_row]);
+      c.reloading_slope =
+          branch_secant(strain, deviator, again.first_row, again.last_row, c.peak_deviator - deviator[again.first_row]);
       c.reloading_slope_end = branch_secant_between(strain, deviator, again.first_row, again.last_row,
                                                     c.peak_deviator - deviator[again.first_row], 0.8, 1.0);
       // Trapezoids down the unloading (rows between it and the reloading hold the strain: they add

@@ -32,7 +32,8 @@ void Membrane::apply(const std::vector<Vec3>& body_positions, const std::vector<
   // The two faces normal to one axis share a map over the same plane (one scan gives both outermost
   // spheres); the x pair and the y pair run on separate threads into their own buffers.
 #pragma omp parallel for schedule(static, 1) num_threads(std::min(2, omp_get_max_threads()))
-  for (int axis = 0; axis < 2; ++axis) map_axis(axis, lo, hi, body_positions, spheres, per_body, radius, scale, scratch_[axis]);
+  for (int axis = 0; axis < 2; ++axis)
+    map_axis(axis, lo, hi, body_positions, spheres, per_body, radius, scale, scratch_[axis]);
 
   std::vector<bool> touched(body_positions.size(), false);
   for (int axis = 0; axis < 2; ++axis) {
@@ -70,9 +71,9 @@ void Membrane::bounds(const std::vector<Vec3>& spheres, double radius, Vec3& lo,
                              " cells: the sample has flown apart (an unstable time step?)");
 }
 
-std::pair<double, double> Membrane::end_forces(const std::vector<Vec3>& body_positions, const std::vector<Vec3>& spheres,
-                                               std::size_t per_body, double radius, std::vector<Vec3>& force,
-                                               const std::vector<double>* scale) const {
+std::pair<double, double> Membrane::end_forces(const std::vector<Vec3>& body_positions,
+                                               const std::vector<Vec3>& spheres, std::size_t per_body, double radius,
+                                               std::vector<Vec3>& force, const std::vector<double>* scale) const {
   if (spheres.empty()) return {0, 0};
   Vec3 lo, hi;
   bounds(spheres, radius, lo, hi);

@@ -29,9 +29,9 @@ struct MembraneStats {
   /// Per face: mean coordinate along the face axis of the centres of the grains it pushes, weighted by
   /// the area each receives (m). The lever arm of the bag's load on the packing.
   double load_centre[4] = {0, 0, 0, 0};
-  std::size_t grains = 0;         ///< grains receiving a membrane force
-  double bridged_area = 0;        ///< area of bridged cells, all faces (m^2)
-  double max_depth = 0;           ///< deepest pressed cell below the closed surface (m)
+  std::size_t grains = 0;   ///< grains receiving a membrane force
+  double bridged_area = 0;  ///< area of bridged cells, all faces (m^2)
+  double max_depth = 0;     ///< deepest pressed cell below the closed surface (m)
 };
 
 class Membrane {

@@ -22,9 +22,9 @@ struct ContactLaw {
 };
 
 struct ContactForce {
-  Vec3 force;    ///< force on the first body (N)
-  double normal; ///< signed normal force magnitude, compressive positive (N)
-  bool sliding;  ///< true when the Coulomb cap was active
+  Vec3 force;     ///< force on the first body (N)
+  double normal;  ///< signed normal force magnitude, compressive positive (N)
+  bool sliding;   ///< true when the Coulomb cap was active
 };
 
 /// Normal damping coefficient c_n = 2 zeta sqrt(k_n m_eff) (N s/m) of a pair with effective mass m_eff.

@@ -44,7 +44,8 @@ NeighborUpdate NeighborList::update(const Bodies& bodies, const std::vector<Wall
       while (po < old_pairs_.size() &&
              (old_pairs_[po].a < gp.a || (old_pairs_[po].a == gp.a && old_pairs_[po].b < gp.b)))
         ++po;
-      if (po < old_pairs_.size() && old_pairs_[po].a == gp.a && old_pairs_[po].b == gp.b) old_index_[p] = std::uint32_t(po);
+      if (po < old_pairs_.size() && old_pairs_[po].a == gp.a && old_pairs_[po].b == gp.b)
+        old_index_[p] = std::uint32_t(po);
     }
     search_.assign(pairs_.size(), 1);
     frame_t_.resize(pairs_.size());
@@ -151,8 +152,7 @@ void NeighborList::broad_phase(const Bodies& bodies) {
           for (; it != sorted.end() && it->first == key; ++it) {
             const BodyId b = it->second;
             if (b <= a) continue;
-            if ((bodies.position[b] - bodies.position[a]).squaredNorm() < cut2)
-              pairs_.push_back({BodyId(a), b, 0, 0});
+            if ((bodies.position[b] - bodies.position[a]).squaredNorm() < cut2) pairs_.push_back({BodyId(a), b, 0, 0});
           }
         }
   }
@@ -217,7 +217,8 @@ void NeighborList::search_and_merge(const Bodies& bodies) {
         for (std::size_t j = 0; j < n_spheres; ++j) {
           if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
           const Vec3 pj = r_ab * offsets_[j] + t_ab;
-          grid_.for_each_near(pj, cutoff_, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+          grid_.for_each_near(pj, cutoff_,
+                              [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
         }
       } else {
         // Scaled grains: a's spheres at sa o_i, b's at sb R_ab o_j + t_ab, candidates within r (sa + sb) + skin;
@@ -227,7 +228,8 @@ void NeighborList::search_and_merge(const Bodies& bodies) {
         for (std::size_t j = 0; j < n_spheres; ++j) {
           if (ub.x() * ox[j] + ub.y() * oy[j] + ub.z() * oz[j] > limit) continue;
           const Vec3 pj = (sb * (r_ab * offsets_[j]) + t_ab) / sa;
-          grid_.for_each_near(pj, cutoff / sa, [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
+          grid_.for_each_near(pj, cutoff / sa,
+                              [&](LocalSphereId i) { out.push_back(sphere_pair_key(i, LocalSphereId(j))); });
         }
       }
       std::sort(out.begin() + begin, out.end());

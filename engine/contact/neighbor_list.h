@@ -61,9 +61,9 @@ struct ShearHistory {
 
 /// What the last update() did.
 struct NeighborUpdate {
-  bool broad = false;              ///< the grain pairs were found again
+  bool broad = false;                ///< the grain pairs were found again
   std::uint32_t pairs_searched = 0;  ///< grain pairs whose sphere pairs were searched
-  bool walls = false;              ///< the wall candidates were found again
+  bool walls = false;                ///< the wall candidates were found again
   bool any() const { return broad || pairs_searched > 0 || walls; }
 };
 

@@ -16,10 +16,28 @@ struct Frame {
   double b00, b01, b02, b10, b11, b12, b20, b21, b22;
   double dxx, dxy, dxz, d2;
   explicit Frame(const PairKernelConstants& c)
-      : a00(c.ra(0, 0)), a01(c.ra(0, 1)), a02(c.ra(0, 2)), a10(c.ra(1, 0)), a11(c.ra(1, 1)), a12(c.ra(1, 2)),
-        a20(c.ra(2, 0)), a21(c.ra(2, 1)), a22(c.ra(2, 2)), b00(c.rb(0, 0)), b01(c.rb(0, 1)), b02(c.rb(0, 2)),
-        b10(c.rb(1, 0)), b11(c.rb(1, 1)), b12(c.rb(1, 2)), b20(c.rb(2, 0)), b21(c.rb(2, 1)), b22(c.rb(2, 2)),
-        dxx(c.xa.x() - c.xb.x()), dxy(c.xa.y() - c.xb.y()), dxz(c.xa.z() - c.xb.z()), d2(c.diameter * c.diameter) {}
+      : a00(c.ra(0, 0)),
+        a01(c.ra(0, 1)),
+        a02(c.ra(0, 2)),
+        a10(c.ra(1, 0)),
+        a11(c.ra(1, 1)),
+        a12(c.ra(1, 2)),
+        a20(c.ra(2, 0)),
+        a21(c.ra(2, 1)),
+        a22(c.ra(2, 2)),
+        b00(c.rb(0, 0)),
+        b01(c.rb(0, 1)),
+        b02(c.rb(0, 2)),
+        b10(c.rb(1, 0)),
+        b11(c.rb(1, 1)),
+        b12(c.rb(1, 2)),
+        b20(c.rb(2, 0)),
+        b21(c.rb(2, 1)),
+        b22(c.rb(2, 2)),
+        dxx(c.xa.x() - c.xb.x()),
+        dxy(c.xa.y() - c.xb.y()),
+        dxz(c.xa.z() - c.xb.z()),
+        d2(c.diameter * c.diameter) {}
 };
 
 // Sphere i of a relative to x_a (a*) and the centre-to-centre vector r = c_i - c_j, both in the world frame.
@@ -45,8 +63,8 @@ struct Contribution {
 };
 
 // The law of contact_law.h for one candidate, updating its shear history (hx, hy, hz) in place.
-inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r, double& hx_io,
-                                                           double& hy_io, double& hz_io) {
+inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r,
+                                                           double& hx_io, double& hy_io, double& hz_io) {
   const double d = c.diameter, radius = c.radius, kn = c.kn, kt = c.kt, cn = c.cn, ct = c.ct;
   const double mu = c.friction, dt = c.dt, inv_kt = kt > 0 ? 1 / kt : 0;
   const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
@@ -86,7 +104,8 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
   // Separated pairs forget their history and exert nothing.
   hx_io = touching ? hx : 0.0, hy_io = touching ? hy : 0.0, hz_io = touching ? hz : 0.0;
   Contribution out;
-  out.fx = touching ? fn * nx + gx : 0.0, out.fy = touching ? fn * ny + gy : 0.0, out.fz = touching ? fn * nz + gz : 0.0;
+  out.fx = touching ? fn * nx + gx : 0.0, out.fy = touching ? fn * ny + gy : 0.0,
+  out.fz = touching ? fn * nz + gz : 0.0;
   out.mx = py * out.fz - pz * out.fy, out.my = pz * out.fx - px * out.fz, out.mz = px * out.fy - py * out.fx;
   out.contact = touching;
   out.slip = touching && slip;

@@ -15,13 +15,13 @@
 namespace granulab {
 
 struct PairKernelConstants {
-  double diameter, radius;       ///< m
-  double kn, kt, cn, ct;         ///< N/m and N s/m for this grain pair
+  double diameter, radius;  ///< m
+  double kn, kt, cn, ct;    ///< N/m and N s/m for this grain pair
   double friction, dt;
-  Vec3 xa, xb;                   ///< centres of grains a and b (m)
-  Mat3 ra, rb;                   ///< their orientations (body -> world)
-  Vec3 v0;                       ///< v_a - v_b - w_b x (x_a - x_b): relative velocity at x_a (m/s)
-  Vec3 dw;                       ///< w_a - w_b (rad/s)
+  Vec3 xa, xb;  ///< centres of grains a and b (m)
+  Mat3 ra, rb;  ///< their orientations (body -> world)
+  Vec3 v0;      ///< v_a - v_b - w_b x (x_a - x_b): relative velocity at x_a (m/s)
+  Vec3 dw;      ///< w_a - w_b (rad/s)
 };
 
 struct PairKernelSums {

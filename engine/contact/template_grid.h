@@ -42,7 +42,7 @@ class TemplateGrid {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   std::vector<std::uint32_t> start_;  // CSR: spheres of cell c are ids_[start_[c] .. start_[c+1])
   std::vector<std::uint16_t> ids_;
-  std::vector<Vec3> points_;          // offsets in the same order as ids_, for locality
+  std::vector<Vec3> points_;  // offsets in the same order as ids_, for locality
 };
 
 }  // namespace granulab

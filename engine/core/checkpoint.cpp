@@ -5,7 +5,8 @@ namespace granulab {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'N', 'L', 'C', 'K', 'P', 'T'};
-constexpr std::uint32_t kVersion = 4;  // raise when any saved layout changes (3: stage times, shear history per component; 4: candidates per grain pair)
+constexpr std::uint32_t kVersion =
+    4;  // raise when any saved layout changes (3: stage times, shear history per component; 4: candidates per grain pair)
 
 // FNV-1a, 64 bits: catches truncation and bit rot; not a defence against tampering (the store is trusted).
 std::uint64_t checksum(const char* data, std::size_t n) {
@@ -45,7 +46,8 @@ CheckpointReader::CheckpointReader(const std::string& checkpoint) : bytes_(check
   at_ = sizeof kMagic;
   const auto version = value<std::uint32_t>();
   if (version != kVersion)
-    throw CheckpointError("checkpoint format " + std::to_string(version) + ", this build reads " + std::to_string(kVersion));
+    throw CheckpointError("checkpoint format " + std::to_string(version) + ", this build reads " +
+                          std::to_string(kVersion));
 }
 
 void CheckpointReader::take(void* out, std::size_t n) {

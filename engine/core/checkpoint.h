@@ -62,7 +62,8 @@ class CheckpointReader {
   template <class T>
   void values(std::vector<T>& v) {
     const auto n = value<std::uint64_t>();
-    if (n > (end_ - at_) / (sizeof(T) ? sizeof(T) : 1)) throw CheckpointError("checkpoint truncated: an array is longer than the file");
+    if (n > (end_ - at_) / (sizeof(T) ? sizeof(T) : 1))
+      throw CheckpointError("checkpoint truncated: an array is longer than the file");
     v.resize(n);
     if (n) take(v.data(), n * sizeof(T));
   }

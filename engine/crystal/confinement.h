@@ -16,13 +16,13 @@
 namespace granulab {
 
 struct ConfinementReport {
-  std::uint64_t steps = 0;             ///< time steps taken (-)
-  bool converged = false;              ///< the criterion held (false: stopped at max_confinement_steps)
-  double stress_top = 0;               ///< axial stress at the top platen at the end (Pa)
-  double stress_bottom = 0;            ///< at the bottom platen (Pa)
-  double lateral_stress_x = 0;         ///< CrystalSample::lateral_stresses() at the end (Pa)
-  double lateral_stress_y = 0;         ///< (Pa)
-  double kinetic_elastic_ratio = 0;    ///< at the end (-)
+  std::uint64_t steps = 0;           ///< time steps taken (-)
+  bool converged = false;            ///< the criterion held (false: stopped at max_confinement_steps)
+  double stress_top = 0;             ///< axial stress at the top platen at the end (Pa)
+  double stress_bottom = 0;          ///< at the bottom platen (Pa)
+  double lateral_stress_x = 0;       ///< CrystalSample::lateral_stresses() at the end (Pa)
+  double lateral_stress_y = 0;       ///< (Pa)
+  double kinetic_elastic_ratio = 0;  ///< at the end (-)
 };
 
 /// Writes the report as the summary group "confinement".

@@ -25,8 +25,8 @@ struct KnockoutRegion {
 };
 
 struct CrystalGeometry {
-  double size = 0.01;      ///< RD cubic cell a (m)
-  double prestrain = 0;    ///< eps0 (-), the lattice is built with cell (1 - eps0) a
+  double size = 0.01;    ///< RD cubic cell a (m)
+  double prestrain = 0;  ///< eps0 (-), the lattice is built with cell (1 - eps0) a
   int grains_x = 8, rows_z = 18, layers_y = 6;
   std::vector<GrainId> knockout_ids;
   std::vector<KnockoutRegion> knockout_regions;
@@ -35,7 +35,7 @@ struct CrystalGeometry {
 struct LatticeSite {
   GrainId id;  ///< stable grain id
   int column, row, layer;
-  Vec3 position;     ///< lab frame, sample centre at the origin (m)
+  Vec3 position;  ///< lab frame, sample centre at the origin (m)
 };
 
 struct CrystalLattice {

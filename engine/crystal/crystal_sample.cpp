@@ -13,8 +13,8 @@ WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate
                                const std::vector<GrainImperfection>& imperfections = {}) {
   WorldSettings s;
   for (const GrainImperfection& g : imperfections) s.min_scale = std::min(s.min_scale, g.scale);
-  s.time_step = p.time_step_factor *
-                contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
+  s.time_step =
+      p.time_step_factor * contact_time_scale(grain, p.material.youngs_modulus, p.material.density * p.mass_scaling);
   // A smaller grain has the same contact stiffness and less mass: its contact time goes as scale^1.5.
   if (s.min_scale < 1) s.time_step *= std::pow(s.min_scale, 1.5);
   s.skin = p.skin_factor * grain.diameter();
@@ -44,7 +44,8 @@ Workload confinement_workload(const CrystalSampleParams& p) {
 double crystal_time_step(const CrystalSampleParams& p) {
   const GrainTemplate grain(p.grain);
   // Imperfect grains: the time step of the smallest grain there may be (an estimate's upper bound of steps).
-  return crystal_settings(p, grain, {GrainImperfection{min_scale_bound(p.imperfections, grain), Quat::Identity()}}).time_step;
+  return crystal_settings(p, grain, {GrainImperfection{min_scale_bound(p.imperfections, grain), Quat::Identity()}})
+      .time_step;
 }
 
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
@@ -136,7 +137,8 @@ void CrystalSample::fix_confining_forces() {
   // The mean of the two platens' loads on both ends (they differ by the servo's tolerance): fixed forces
   // with a net axial force would push the sample along once a platen lets go.
   fixed_.load[4] = fixed_.load[5] = -(world_.walls()[top_].force.dot(world_.walls()[top_].normal) +
-                                      world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal)) / 2;
+                                      world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal)) /
+                                    2;
   const double top_scale = top_area > 0 ? fixed_.load[4] / (membrane_.pressure() * top_area) : 0;
   const double bottom_scale = bottom_area > 0 ? fixed_.load[5] / (membrane_.pressure() * bottom_area) : 0;
   for (std::size_t b = 0; b < force.size(); ++b) {

@@ -28,7 +28,7 @@ struct FixedForces {
 
 struct CrystalSampleParams {
   GrainGeometry grain{Shape::rhombic_dodecahedron, 0.01, 10, 0.75};
-  Material material{};  // E = 3 GPa, rho = 1200, f = 0.35
+  Material material{};                          // E = 3 GPa, rho = 1200, f = 0.35
   int grains_x = 8, rows_z = 18, layers_y = 6;  ///< grains per row, rows, {111} layers (-)
   std::vector<GrainId> knockout_ids;
   std::vector<KnockoutRegion> knockout_regions;
@@ -129,9 +129,7 @@ class CrystalSample {
 
  private:
   /// The bodies' scales for the bag's height maps, when some grain is not the template's size.
-  const std::vector<double>* scales() const {
-    return params_.imperfections.any() ? &world_.bodies().scale : nullptr;
-  }
+  const std::vector<double>* scales() const { return params_.imperfections.any() ? &world_.bodies().scale : nullptr; }
   CrystalSampleParams params_;
   GrainTemplate grain_;
   CrystalLattice lattice_;

@@ -18,7 +18,7 @@ struct Stream {
     return z ^ (z >> 31);
   }
   double uniform() { return (double(next() >> 11) + 0.5) * 0x1.0p-53; }  // in (0, 1)
-  double normal() {  // Box-Muller; one of the pair is enough here
+  double normal() {                                                      // Box-Muller; one of the pair is enough here
     const double u = uniform(), v = uniform();
     return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
   }
@@ -38,8 +38,8 @@ double fit_scale(const GrainTemplate& grain, const Quat& rotation) {
   for (const Vec3& o : grain.offsets()) turned.push_back(rotation * o);
   double scale = 1;
   for (const Face& f : grain.solid().faces())
-    scale = std::min(scale, support(grain.offsets(), grain.radius(), f.normal) /
-                                support(turned, grain.radius(), f.normal));
+    scale =
+        std::min(scale, support(grain.offsets(), grain.radius(), f.normal) / support(turned, grain.radius(), f.normal));
   return scale;
 }
 

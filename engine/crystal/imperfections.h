@@ -28,8 +28,8 @@ struct ImperfectionParams {
 };
 
 struct GrainImperfection {
-  double scale = 1;                        ///< the grain's size over the template's (-)
-  Quat rotation = Quat::Identity();        ///< body-frame rotation applied before the lattice's orientation
+  double scale = 1;                  ///< the grain's size over the template's (-)
+  Quat rotation = Quat::Identity();  ///< body-frame rotation applied before the lattice's orientation
 };
 
 /// One per lattice site, in site order; all perfect when p.any() is false.

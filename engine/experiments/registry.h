@@ -11,8 +11,8 @@
 namespace granulab {
 
 struct ExperimentType {
-  const char* name;      ///< the spec's "experiment" value
-  const char* title;     ///< one line for the docs and the API, with the paper's section and figures
+  const char* name;                       ///< the spec's "experiment" value
+  const char* title;                      ///< one line for the docs and the API, with the paper's section and figures
   std::unique_ptr<Experiment> (*make)();  ///< an instance holding the paper's defaults
 };
 

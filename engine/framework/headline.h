@@ -45,7 +45,7 @@ struct KeyValue {
 
 /// A summary list of groups worth showing as a table, e.g. a crystal's load-unload cycles.
 struct SummaryTable {
-  const char* key;    ///< the list's key in the summary
+  const char* key;  ///< the list's key in the summary
   const char* title;
 };
 
@@ -53,19 +53,19 @@ struct SummaryTable {
 struct ReferenceCurve {
   std::string label;
   std::size_t series = 0;
-  std::vector<double> x;                   ///< in the x axis' SI (= stored) values
-  std::vector<double> y_natural, y_si;     ///< in the y axis' natural and SI units (already scaled)
+  std::vector<double> x;                ///< in the x axis' SI (= stored) values
+  std::vector<double> y_natural, y_si;  ///< in the y axis' natural and SI units (already scaled)
 };
 
 struct Headline {
   const char* x_column;
   Axis x;
-  Axis y;                                  ///< shared by every series
-  std::vector<HeadlineSeries> series;      ///< the first is the one a sweep overlays and a watch line prints
+  Axis y;                              ///< shared by every series
+  std::vector<HeadlineSeries> series;  ///< the first is the one a sweep overlays and a watch line prints
   std::vector<KeyValue> values;
   std::vector<SummaryTable> tables;
   std::vector<ReferenceCurve> references;
-  const char* note = nullptr;              ///< a line the picture adds, e.g. what a series includes
+  const char* note = nullptr;  ///< a line the picture adds, e.g. what a series includes
 };
 
 }  // namespace granulab

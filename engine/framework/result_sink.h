@@ -36,7 +36,10 @@ class ResultSink {
   virtual void snapshot(std::size_t index, const GrainSnapshot& snapshot) { (void)index, (void)snapshot; }
   /// The completed fraction in [0, 1], at least every few hundred steps; return false to stop the run
   /// (the experiment then throws Cancelled). May throw to abandon the run.
-  virtual bool progress(double fraction) { (void)fraction; return true; }
+  virtual bool progress(double fraction) {
+    (void)fraction;
+    return true;
+  }
   /// Checkpoints (docs/architecture.md, "Checkpoints"): asked at the experiment's safe points, at least
   /// every few hundred steps; true when one should be written now.
   virtual bool checkpoint_due() { return false; }

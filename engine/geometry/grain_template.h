@@ -13,9 +13,9 @@ namespace granulab {
 
 struct GrainGeometry {
   Shape shape = Shape::rhombic_dodecahedron;
-  double size = 0.01;      ///< cube side l, or RD cubic cell a (m)
-  int edge_spheres = 10;   ///< N_e >= 2
-  double overlap = 0.75;   ///< kappa in [0, 1)
+  double size = 0.01;     ///< cube side l, or RD cubic cell a (m)
+  int edge_spheres = 10;  ///< N_e >= 2
+  double overlap = 0.75;  ///< kappa in [0, 1)
 };
 
 /// Sphere diameter d (m): cube eq. 2, d = l/((N_e-1)(1-kappa)+1); RD (docs/model.md, "Grains": our reading of eq. 7),

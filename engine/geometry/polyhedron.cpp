@@ -7,9 +7,7 @@
 
 namespace granulab {
 
-std::string to_string(Shape shape) {
-  return shape == Shape::cube ? "cube" : "rhombic_dodecahedron";
-}
+std::string to_string(Shape shape) { return shape == Shape::cube ? "cube" : "rhombic_dodecahedron"; }
 
 namespace {
 
@@ -83,8 +81,8 @@ double Polyhedron::face_area() const {
 double Polyhedron::circumradius() const {
   double r = 0;
   for (const Face& f : faces_) {
-    for (const Vec3& v : {f.corner, Vec3(f.corner + f.edge_a), Vec3(f.corner + f.edge_b),
-                          Vec3(f.corner + f.edge_a + f.edge_b)}) {
+    for (const Vec3& v :
+         {f.corner, Vec3(f.corner + f.edge_a), Vec3(f.corner + f.edge_b), Vec3(f.corner + f.edge_a + f.edge_b)}) {
       r = std::max(r, v.norm());
     }
   }
@@ -92,8 +90,7 @@ double Polyhedron::circumradius() const {
 }
 
 bool Polyhedron::contains(const Vec3& p, double tol) const {
-  return std::all_of(faces_.begin(), faces_.end(),
-                     [&](const Face& f) { return (p - f.corner).dot(f.normal) <= tol; });
+  return std::all_of(faces_.begin(), faces_.end(), [&](const Face& f) { return (p - f.corner).dot(f.normal) <= tol; });
 }
 
 MassProperties Polyhedron::mass_properties() const {
@@ -103,8 +100,7 @@ MassProperties Polyhedron::mass_properties() const {
   Mat3 second_moment = Mat3::Zero();
   Vec3 first_moment = Vec3::Zero();
   for (const Face& f : faces_) {
-    const Vec3 a = f.corner, b = f.corner + f.edge_a, c = f.corner + f.edge_b,
-               d = f.corner + f.edge_a + f.edge_b;
+    const Vec3 a = f.corner, b = f.corner + f.edge_a, c = f.corner + f.edge_b, d = f.corner + f.edge_a + f.edge_b;
     for (const auto& tri : {std::array<Vec3, 3>{a, b, d}, std::array<Vec3, 3>{a, d, c}}) {
       Mat3 v;
       v << tri[0], tri[1], tri[2];

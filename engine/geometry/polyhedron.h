@@ -25,8 +25,8 @@ struct Face {
 
 /// Mass properties of the homogeneous solid (density 1 unless scaled by the caller).
 struct MassProperties {
-  double volume = 0;  ///< m^3
-  Vec3 centroid = Vec3::Zero();  ///< m
+  double volume = 0;                        ///< m^3
+  Vec3 centroid = Vec3::Zero();             ///< m
   Mat3 inertia_per_density = Mat3::Zero();  ///< kg m^2 per (kg/m^3), about the centroid
 };
 

@@ -10,11 +10,11 @@
 namespace granulab {
 
 struct Material {
-  double youngs_modulus = 3.0e9;               ///< E of the grain material (Pa)
-  double density = 1200;                       ///< kg/m^3
-  double friction = 0.35;                      ///< Coulomb coefficient between spheres and on walls
-  double tangential_stiffness_ratio = 2.0 / 7; ///< k_t / k_n
-  double damping = 0.05;                       ///< damping ratio zeta of one sphere pair
+  double youngs_modulus = 3.0e9;                ///< E of the grain material (Pa)
+  double density = 1200;                        ///< kg/m^3
+  double friction = 0.35;                       ///< Coulomb coefficient between spheres and on walls
+  double tangential_stiffness_ratio = 2.0 / 7;  ///< k_t / k_n
+  double damping = 0.05;                        ///< damping ratio zeta of one sphere pair
 };
 
 /// k_n (N/m) for the given grain and modulus.

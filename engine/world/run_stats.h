@@ -30,18 +30,18 @@ class StageTimer {
 };
 
 struct RunStats {
-  std::size_t grains = 0;             ///< rigid bodies (-)
-  std::size_t spheres = 0;            ///< spheres of all grains (-)
-  std::uint64_t steps = 0;            ///< time steps since the world was built (-)
-  std::uint64_t rebuilds = 0;         ///< force evaluations at which some candidates were searched again (-)
-  std::uint64_t pair_searches = 0;    ///< grain pairs whose sphere pairs were searched, summed over the run (-)
-  double mean_candidates = 0;         ///< sphere-pair candidates per force evaluation, averaged over the steps (-)
-  double time_step = 0;               ///< dt (s)
-  double sphere_diameter = 0;         ///< d (m)
-  double normal_stiffness = 0;        ///< k_n of one sphere pair (N/m)
-  int spheres_per_face = 0;           ///< N_f = N_e^2 (-)
-  int threads = 1;                    ///< OpenMP threads of the run (-)
-  double wall_seconds = 0;            ///< wall-clock time of the run (s)
+  std::size_t grains = 0;           ///< rigid bodies (-)
+  std::size_t spheres = 0;          ///< spheres of all grains (-)
+  std::uint64_t steps = 0;          ///< time steps since the world was built (-)
+  std::uint64_t rebuilds = 0;       ///< force evaluations at which some candidates were searched again (-)
+  std::uint64_t pair_searches = 0;  ///< grain pairs whose sphere pairs were searched, summed over the run (-)
+  double mean_candidates = 0;       ///< sphere-pair candidates per force evaluation, averaged over the steps (-)
+  double time_step = 0;             ///< dt (s)
+  double sphere_diameter = 0;       ///< d (m)
+  double normal_stiffness = 0;      ///< k_n of one sphere pair (N/m)
+  int spheres_per_face = 0;         ///< N_f = N_e^2 (-)
+  int threads = 1;                  ///< OpenMP threads of the run (-)
+  double wall_seconds = 0;          ///< wall-clock time of the run (s)
   StageTimes stage_times;
 };
 

@@ -20,7 +20,11 @@ constexpr double kSparseShare = 0.5;
 }  // namespace
 
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
-    : grain_(grain), offset_arrays_(grain.offsets()), law_(law), settings_(settings), neighbors_(grain.offsets(), grain.diameter(), settings.skin, settings.min_scale) {
+    : grain_(grain),
+      offset_arrays_(grain.offsets()),
+      law_(law),
+      settings_(settings),
+      neighbors_(grain.offsets(), grain.diameter(), settings.skin, settings.min_scale) {
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
   if (!(settings.min_scale > 0 && settings.min_scale <= 1)) throw std::invalid_argument("min_scale must be in (0, 1]");
 }
@@ -44,7 +48,8 @@ RunStats World::run_stats(double wall_seconds) const {
 }
 
 BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion motion, double scale) {
-  if (!(scale >= settings_.min_scale && scale <= 1)) throw std::invalid_argument("a grain's scale must be in [min_scale, 1]");
+  if (!(scale >= settings_.min_scale && scale <= 1))
+    throw std::invalid_argument("a grain's scale must be in [min_scale, 1]");
   const double s3 = scale * scale * scale;  // mass ~ size^3, moments of inertia ~ size^5
   const BodyId id = bodies_.add(x, q, density * grain_.volume() * s3,
                                 density * grain_.principal_inertia_per_density() * (s3 * scale * scale), motion, scale);
@@ -83,7 +88,7 @@ void World::step() {
 
 void World::compute_forces() {
   update_angular_velocity(bodies_);  // in case momenta were set by hand since the last drift
-  spheres_current_ = false;           // poses may have changed; positions are refreshed on demand
+  spheres_current_ = false;          // poses may have changed; positions are refreshed on demand
   update_neighbors();
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     bodies_.force[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
@@ -182,9 +187,9 @@ void World::sphere_contact_forces() {
       c.dw = wa - wb;
       // Where most candidates did not touch at the last evaluation, distances first (PairKernel).
       const bool sparse = double(pair_contacts_[p]) < kSparseShare * double(gp.count);
-      const PairKernelSums s = pair_contacts(c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
-                                             history.y.data() + gp.first, history.z.data() + gp.first,
-                                             sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
+      const PairKernelSums s = pair_contacts(
+          c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first, history.y.data() + gp.first,
+          history.z.data() + gp.first, sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
       pair_force_[p] = s.force;
       pair_torque_a_[p] = s.moment;
       pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);
@@ -217,7 +222,8 @@ void World::sphere_contact_forces() {
 double World::kinetic_energy() const {
   double e = 0;
   for (std::size_t b = 0; b < bodies_.size(); ++b)
-    if (bodies_.motion[b] == Motion::dynamic) e += bodies_.translational_energy(BodyId(b)) + bodies_.rotational_energy(BodyId(b));
+    if (bodies_.motion[b] == Motion::dynamic)
+      e += bodies_.translational_energy(BodyId(b)) + bodies_.rotational_energy(BodyId(b));
   return e;
 }
 
@@ -274,9 +280,9 @@ void World::wall_forces() {
 // same value/values names): what is written is what is read, in the same order.
 template <class Archive, class Self>
 void World::state(Archive& a, Self& w) {
-  for (auto* field : {&w.bodies_.position, &w.bodies_.velocity, &w.bodies_.angular_momentum, &w.bodies_.angular_velocity,
-                      &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia, &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_,
-                      &w.external_torque_})
+  for (auto* field : {&w.bodies_.position, &w.bodies_.velocity, &w.bodies_.angular_momentum,
+                      &w.bodies_.angular_velocity, &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia,
+                      &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_, &w.external_torque_})
     a.values(*field);
   a.values(w.bodies_.orientation);
   a.values(w.bodies_.mass);
@@ -308,8 +314,8 @@ void World::restore(CheckpointReader& r) {
   r.section("world");
   const auto bodies = r.value<std::uint64_t>(), walls = r.value<std::uint64_t>();
   if (bodies != bodies_.size() || walls != walls_.size())
-    throw CheckpointError("checkpoint of a world with " + std::to_string(bodies) + " bodies and " + std::to_string(walls) +
-                          " walls, this one has " + std::to_string(bodies_.size()) + " and " +
+    throw CheckpointError("checkpoint of a world with " + std::to_string(bodies) + " bodies and " +
+                          std::to_string(walls) + " walls, this one has " + std::to_string(bodies_.size()) + " and " +
                           std::to_string(walls_.size()) + ": not the same spec");
   state(r, *this);
   spheres_current_ = false;  // sphere positions follow from the restored poses

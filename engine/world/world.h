@@ -20,19 +20,18 @@
 namespace granulab {
 
 struct WorldSettings {
-  double time_step = 0;           ///< s
-  double skin = 0;                ///< neighbour-list skin (m)
-  Vec3 gravity = Vec3::Zero();    ///< m/s^2
-  double min_scale = 1;           ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
+  double time_step = 0;         ///< s
+  double skin = 0;              ///< neighbour-list skin (m)
+  Vec3 gravity = Vec3::Zero();  ///< m/s^2
+  double min_scale = 1;         ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
 };
-
 
 struct ContactStats {
   std::size_t candidates = 0;  ///< sphere pairs in the neighbour list
   std::size_t contacts = 0;    ///< sphere-sphere pairs with overlap > 0
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
-  double elastic_energy = 0;   ///< sum over sphere-sphere contacts of k_n delta^2/2 + |k_t xi|^2/(2 k_t) (J)
+  double elastic_energy = 0;  ///< sum over sphere-sphere contacts of k_n delta^2/2 + |k_t xi|^2/(2 k_t) (J)
 };
 
 class World {

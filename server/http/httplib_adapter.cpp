@@ -164,8 +164,7 @@ Transport::Transport(const Router& router, const ConnectionOptions& options) : i
       what = e.what(), full = true;
     } catch (const std::exception& e) {
       what = e.what();
-    } catch (...) {
-    }
+    } catch (...) {}
     static std::atomic<std::uint64_t> next_error{1};
     const std::string id = "e" + std::to_string(next_error++);
     spdlog::error("{} {} -> {} ({}): {}", req.method, req.path, full ? 507 : 500, id, what);
@@ -173,8 +172,7 @@ Transport::Transport(const Router& router, const ConnectionOptions& options) : i
     if (full)
       error(answer, 507, "storage_full",
             "the server's storage is full (its disk, or --max-db-mb): nothing was stored; tell its administrator");
-    else
-      error(answer, 500, "internal", "internal error; the server's log has it under request id " + id);
+    else error(answer, 500, "internal", "internal error; the server's log has it under request id " + id);
     res.status = answer.status;
     res.set_header("X-Request-Id", id);
     res.set_content(answer.body, answer.content_type);
@@ -190,7 +188,8 @@ Transport::Transport(const Router& router, const ConnectionOptions& options) : i
     if (res.status == 413) error(answer, 413, "too_large", "request body too large");
     else if (res.status == 404) error(answer, 404, "not_found", "no such route");
     else if (res.status == 400) error(answer, 400, "bad_request", "malformed request");
-    else if (res.status == 414) error(answer, 414, "uri_too_long", "the request's path and query are longer than 8 KiB");
+    else if (res.status == 414)
+      error(answer, 414, "uri_too_long", "the request's path and query are longer than 8 KiB");
     else error(answer, res.status, "http_error", "request failed with HTTP " + std::to_string(res.status));
     res.set_content(answer.body, answer.content_type);
   });

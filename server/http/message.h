@@ -13,12 +13,12 @@ namespace granulab::server::http {
 
 struct Request {
   explicit Request(const std::string& body_bytes) : body(body_bytes) {}
-  std::string method;       ///< GET, POST, DELETE (HEAD is answered as GET)
-  std::string path;         ///< without the query
-  std::string target;       ///< path and query as sent
-  std::string remote_addr;  ///< the peer's address, for the log
-  const std::string& body;  ///< the whole body, already read and bounded by the connection loop
-  std::vector<std::string> matches;                          ///< [0] the path, then the route pattern's groups
+  std::string method;                ///< GET, POST, DELETE (HEAD is answered as GET)
+  std::string path;                  ///< without the query
+  std::string target;                ///< path and query as sent
+  std::string remote_addr;           ///< the peer's address, for the log
+  const std::string& body;           ///< the whole body, already read and bounded by the connection loop
+  std::vector<std::string> matches;  ///< [0] the path, then the route pattern's groups
   std::vector<std::pair<std::string, std::string>> query;    ///< decoded, in order
   std::vector<std::pair<std::string, std::string>> headers;  ///< as sent; looked up without regard to case
 

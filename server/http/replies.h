@@ -14,7 +14,8 @@ namespace granulab::server::http {
 /// A JSON answer (invalid UTF-8 in quoted input is replaced, never thrown on).
 void reply(Response& res, int status, const nlohmann::json& body);
 /// {"error": {"code", "message", "field"}} with `status`.
-void error(Response& res, int status, const std::string& code, const std::string& message, const std::string& field = "");
+void error(Response& res, int status, const std::string& code, const std::string& message,
+           const std::string& field = "");
 /// A path id of 1 to 18 digits; nullopt for anything else (then the route answers 404).
 std::optional<std::int64_t> path_id(const std::string& digits);
 /// Reads ?name= as an integer in [lo, hi] into value (untouched when absent); false after a 400 naming it.

@@ -34,7 +34,8 @@ void Router::dispatch(Request& req, Response& res) const {
       for (const std::string& k : route.params) list += (list.empty() ? "" : ", ") + k;
       return error(res, 400, "unknown_parameter",
                    "unknown query parameter '" + name + "' (" +
-                       (route.params.empty() ? std::string("this route takes none") : "this route takes: " + list) + ")",
+                       (route.params.empty() ? std::string("this route takes none") : "this route takes: " + list) +
+                       ")",
                    name);
     }
     return route.handler(req, res);

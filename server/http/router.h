@@ -15,9 +15,9 @@ namespace granulab::server::http {
 class Router {
  public:
   struct Route {
-    std::string method;                ///< GET, POST or DELETE
-    std::string pattern;               ///< an ECMAScript regex matched against the whole path, e.g. /v1/jobs/(\d+)
-    std::vector<std::string> params;   ///< the query parameters it takes; any other is a 400 naming it
+    std::string method;               ///< GET, POST or DELETE
+    std::string pattern;              ///< an ECMAScript regex matched against the whole path, e.g. /v1/jobs/(\d+)
+    std::vector<std::string> params;  ///< the query parameters it takes; any other is a 400 naming it
     Handler handler;
     std::regex regex;
   };

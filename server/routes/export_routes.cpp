@@ -67,7 +67,8 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     const auto index = path_id(req.matches[2]);
     const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
     if (!blob)
-      return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
+      return error(res, 404, "not_found",
+                   "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
     if (format == "json") return res.set_content(std::string(blob->begin(), blob->end()), "application/json");
     const GrainSnapshot s = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
     const std::string name = "job" + std::to_string(job->id) + "_snapshot_" + std::to_string(*index);
@@ -94,7 +95,8 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     for (const auto& info : c.store.snapshots(job->id)) stored += double(info.bytes);
     if (2.2 * stored > max_archive_bytes)
       return error(res, 413, "too_large",
-                   "job " + std::to_string(job->id) + "'s archive would be about " + std::to_string(int(2.2 * stored / 1e6)) +
+                   "job " + std::to_string(job->id) + "'s archive would be about " +
+                       std::to_string(int(2.2 * stored / 1e6)) +
                        " MB, over the 256 MB the server builds at once: download its snapshots one by one "
                        "(/v1/jobs/{id}/snapshots/{k}?format=...) or with `granulab results`");
     static std::mutex one_at_a_time;
@@ -106,7 +108,8 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     const json spec = json::parse(job->spec_json, nullptr, false);
     tar.add(dir + "spec.json", spec.dump(2) + "\n");
     if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");
-    if (const auto csv = job->status == JobStatus::succeeded ? c.store.curve_csv(job->id) : c.store.live_curve_csv(job->id)) {
+    if (const auto csv =
+            job->status == JobStatus::succeeded ? c.store.curve_csv(job->id) : c.store.live_curve_csv(job->id)) {
       tar.add(dir + "curve.csv", *csv);
       if (const auto svg = job_curve_svg(c.store, *job)) tar.add(dir + "curve.svg", *svg);
     }

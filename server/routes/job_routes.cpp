@@ -42,7 +42,7 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     const User who = c.access.who(req);
     if (!c.admission.within_queue_quota(who, 1, res)) return;
     const std::int64_t id = c.store.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
-                                          who.name, int(priority));
+                                           who.name, int(priority));
     c.executor.notify();
     reply(res, 201, {{"id", id}, {"status", api::status_name(JobStatus::queued)}});
   });
@@ -78,12 +78,11 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     const auto job = c.access.job_for(c.store, req, res, "delete", true);
     if (!job) return;
     switch (c.store.remove(job->id)) {
-      case JobStore::WriteResult::done:
-        return reply(res, 200, {{"id", job->id}, {"deleted", true}});
-      case JobStore::WriteResult::not_found:
-        return error(res, 404, "not_found", "no job " + std::to_string(job->id));
+      case JobStore::WriteResult::done: return reply(res, 200, {{"id", job->id}, {"deleted", true}});
+      case JobStore::WriteResult::not_found: return error(res, 404, "not_found", "no job " + std::to_string(job->id));
       case JobStore::WriteResult::wrong_state:
-        return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + ": cancel it first");
+        return error(res, 409, "wrong_state",
+                     "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + ": cancel it first");
     }
   });
 
@@ -91,13 +90,12 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     const auto job = c.access.job_for(c.store, req, res, "re-prioritise", true);
     if (!job) return;
     long priority = 0;
-    if (!req.has_param("value")) return error(res, 400, "missing", "'value' (the new priority, -100 to 100) is required", "value");
+    if (!req.has_param("value"))
+      return error(res, 400, "missing", "'value' (the new priority, -100 to 100) is required", "value");
     if (!query_int(req, res, "value", -100, 100, priority)) return;
     switch (c.store.set_priority(job->id, int(priority))) {
-      case JobStore::WriteResult::done:
-        return reply(res, 200, {{"id", job->id}, {"priority", priority}});
-      case JobStore::WriteResult::not_found:
-        return error(res, 404, "not_found", "no job " + std::to_string(job->id));
+      case JobStore::WriteResult::done: return reply(res, 200, {{"id", job->id}, {"priority", priority}});
+      case JobStore::WriteResult::not_found: return error(res, 404, "not_found", "no job " + std::to_string(job->id));
       case JobStore::WriteResult::wrong_state:
         return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is no longer queued");
     }
@@ -113,7 +111,8 @@ void mount_job_routes(Router& router, const RouteContext& c) {
         return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::cancelled)}});
       case JobStore::CancelResult::requested_running:
         c.executor.cancel_requested(id);
-        return reply(res, 202, {{"id", id}, {"status", api::status_name(JobStatus::running)}, {"cancel_requested", true}});
+        return reply(res, 202,
+                     {{"id", id}, {"status", api::status_name(JobStatus::running)}, {"cancel_requested", true}});
       case JobStore::CancelResult::not_found:
         return error(res, 404, "not_found", "no job " + std::string(req.matches[1]));
       case JobStore::CancelResult::wrong_state:
@@ -134,7 +133,8 @@ void mount_job_routes(Router& router, const RouteContext& c) {
       if (const auto json_text = c.store.curve_json(id)) return res.set_content(*json_text, "application/json");
     const auto text = c.store.live_curve_csv(id);
     if (!text)
-      return error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + api::status_name(job->status) + " and has no curve yet");
+      return error(res, 409, "wrong_state",
+                   "job " + std::to_string(id) + " is " + api::status_name(job->status) + " and has no curve yet");
     if (csv) return res.set_content(*text, "text/csv");
     res.set_content(api::curve_csv_to_json(*text).dump(), "application/json");
   });
@@ -144,7 +144,8 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     if (!job) return;
     const std::int64_t id = job->id;
     json list = json::array();
-    for (const auto& s : c.store.snapshots(id)) list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
+    for (const auto& s : c.store.snapshots(id))
+      list.push_back({{"index", s.index}, {"strain", s.strain}, {"bytes", s.bytes}});
     reply(res, 200, {{"snapshots", list}});
   });
 }

@@ -27,7 +27,8 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
     if (!curve_choice(req, res, parsed_or_null(job->spec_json), choice)) return;
     const auto svg = job_curve_svg(c.store, *job, choice);
     if (!svg)
-      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + " and has no curve yet");
+      return error(res, 409, "wrong_state",
+                   "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + " and has no curve yet");
     res.set_content(*svg, "image/svg+xml");
   });
 
@@ -43,44 +44,50 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
         ++left_out;
         continue;
       }
-      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json), curve_columns(c.store, j).value_or(json::object()), api::status_name(j.status)});
+      curves.push_back({parsed_or_null(j.sweep_values), parsed_or_null(j.spec_json),
+                        curve_columns(c.store, j).value_or(json::object()), api::status_name(j.status)});
     }
     const std::string title = sweep->label.empty() ? "sweep " + std::to_string(sweep->id) : sweep->label;
-    res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out, choice)), "image/svg+xml");
+    res.set_content(pictures::line_plot_svg(pictures::sweep_curves_plot(title, curves, left_out, choice)),
+                    "image/svg+xml");
   });
 
-  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", {"field", "slice"}, [c](const http::Request& req, http::Response& res) {
-    const auto job = c.access.job_for(c.store, req, res, "read", false);
-    if (!job) return;
-    const std::string field_name = req.has_param("field") ? req.get_param_value("field") : "equivalent_strain";
-    const auto field = pictures::parse_field(field_name);
-    if (!field)
-      return error(res, 400, "invalid_value",
-                   "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, got '" + field_name + "'",
-                   "field");
-    std::optional<int> layer;
-    if (req.has_param("slice")) {
-      long value = 0;
-      if (!query_int(req, res, "slice", 0, 1 << 20, value)) return;
-      layer = int(value);
-    }
-    const auto index = path_id(req.matches[2]);
-    const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
-    if (!blob)
-      return error(res, 404, "not_found", "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(job->id));
-    GrainSnapshot snapshot;
-    try {
-      snapshot = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
-    } catch (const std::exception& e) {
-      return error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
-    }
-    try {
-      res.set_content(pictures::section_svg(snapshot, *field, layer, job->label.empty() ? "job " + std::to_string(job->id) : job->label),
-                      "image/svg+xml");
-    } catch (const std::out_of_range& e) {
-      error(res, 400, "out_of_range", e.what(), "slice");
-    }
-  });
+  router.get(
+      R"(/v1/jobs/(\d+)/snapshots/(\d+)\.svg)", {"field", "slice"}, [c](const http::Request& req, http::Response& res) {
+        const auto job = c.access.job_for(c.store, req, res, "read", false);
+        if (!job) return;
+        const std::string field_name = req.has_param("field") ? req.get_param_value("field") : "equivalent_strain";
+        const auto field = pictures::parse_field(field_name);
+        if (!field)
+          return error(
+              res, 400, "invalid_value",
+              "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, got '" + field_name + "'",
+              "field");
+        std::optional<int> layer;
+        if (req.has_param("slice")) {
+          long value = 0;
+          if (!query_int(req, res, "slice", 0, 1 << 20, value)) return;
+          layer = int(value);
+        }
+        const auto index = path_id(req.matches[2]);
+        const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
+        if (!blob)
+          return error(res, 404, "not_found",
+                       "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(job->id));
+        GrainSnapshot snapshot;
+        try {
+          snapshot = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
+        } catch (const std::exception& e) {
+          return error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
+        }
+        try {
+          res.set_content(pictures::section_svg(snapshot, *field, layer,
+                                                job->label.empty() ? "job " + std::to_string(job->id) : job->label),
+                          "image/svg+xml");
+        } catch (const std::out_of_range& e) {
+          error(res, 400, "out_of_range", e.what(), "slice");
+        }
+      });
 }
 
 }  // namespace granulab::server

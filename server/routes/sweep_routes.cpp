@@ -35,7 +35,8 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     for (const api::SweepPoint& p : sweep.points) {
       // "<sweep or spec label> (key=value, ...)", or just the values: what tells the sweep's jobs apart.
       std::string values;
-      for (const auto& [key, value] : p.values.items()) values += (values.empty() ? "" : ", ") + key + "=" + value.dump();
+      for (const auto& [key, value] : p.values.items())
+        values += (values.empty() ? "" : ", ") + key + "=" + value.dump();
       const std::string base = sweep.label.empty() ? p.spec.label : sweep.label;
       const std::string label = base.empty() ? values : base + " (" + values + ")";
       jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
@@ -56,8 +57,12 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     if (!owner) return;
     json sweeps = json::array();
     for (const SweepRecord& s : c.store.list_sweeps(int(limit), offset, *owner))
-      sweeps.push_back({{"id", s.id}, {"label", s.label}, {"owner", s.owner}, {"mode", s.mode},
-                        {"vary", json::parse(s.vary_json, nullptr, false)}, {"created_ms", s.created_ms}});
+      sweeps.push_back({{"id", s.id},
+                        {"label", s.label},
+                        {"owner", s.owner},
+                        {"mode", s.mode},
+                        {"vary", json::parse(s.vary_json, nullptr, false)},
+                        {"created_ms", s.created_ms}});
     reply(res, 200, {{"sweeps", sweeps}, {"limit", limit}, {"offset", offset}});
   });
 
@@ -88,9 +93,15 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
       jobs.push_back(item);
     }
     reply(res, 200,
-          {{"id", sweep->id}, {"label", sweep->label}, {"owner", sweep->owner}, {"mode", sweep->mode},
-           {"spec", json::parse(sweep->base_json, nullptr, false)}, {"vary", json::parse(sweep->vary_json, nullptr, false)},
-           {"created_ms", sweep->created_ms}, {"counts", counts}, {"jobs", jobs}});
+          {{"id", sweep->id},
+           {"label", sweep->label},
+           {"owner", sweep->owner},
+           {"mode", sweep->mode},
+           {"spec", json::parse(sweep->base_json, nullptr, false)},
+           {"vary", json::parse(sweep->vary_json, nullptr, false)},
+           {"created_ms", sweep->created_ms},
+           {"counts", counts},
+           {"jobs", jobs}});
   });
 
   // Cancels what has not finished: queued jobs at once, running ones within a second.

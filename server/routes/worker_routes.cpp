@@ -26,7 +26,6 @@ std::string text(const json& body, const char* key, const std::string& fallback)
   return body.is_object() && body.contains(key) && body[key].is_string() ? body[key].get<std::string>() : fallback;
 }
 
-
 // The job of a worker route's path id, if the request carries its worker's secret (else 403 or 409).
 std::optional<JobRecord> worker_job(const RouteContext& c, const Request& req, Response& res) {
   const auto id = path_id(req.matches[1]);
@@ -42,8 +41,8 @@ std::optional<JobRecord> worker_job(const RouteContext& c, const Request& req, R
   const std::string slurm_job = req.get_header_value("X-Slurm-Job-Id");
   if (!slurm_job.empty() && slurm_job != job->slurm_job_id) {
     error(res, 409, "stale_worker",
-          "job " + std::to_string(job->id) + " now runs as Slurm job " + (job->slurm_job_id.empty() ? "(none yet)" : job->slurm_job_id) +
-              ", not " + slurm_job);
+          "job " + std::to_string(job->id) + " now runs as Slurm job " +
+              (job->slurm_job_id.empty() ? "(none yet)" : job->slurm_job_id) + ", not " + slurm_job);
     return std::nullopt;
   }
   return job;
@@ -58,7 +57,9 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
     if (api::is_finished(job->status) || job->cancel_requested)
-      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status) + (job->cancel_requested ? " (cancel requested)" : ""));
+      return error(res, 409, "wrong_state",
+                   "job " + std::to_string(job->id) + " is " + api::status_name(job->status) +
+                       (job->cancel_requested ? " (cancel requested)" : ""));
     if (!c.store.mark_running(job->id, req.get_header_value("X-Slurm-Job-Id")))
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " can no longer start");
     const std::string version = req.has_param("engine_version") ? req.get_param_value("engine_version") : "";
@@ -86,17 +87,20 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
   router.post(R"(/v1/worker/jobs/(\d+)/begin)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
-    if (job->status != JobStatus::running) return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+    if (job->status != JobStatus::running)
+      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
     const json body = json::parse(req.body, nullptr, false);
     if (!body.is_object() || !body.contains("header") || !body["header"].is_string())
-      return error(res, 400, "invalid_value", "expected {\"header\": CSV header line, \"resume_rows\": n or null}", "header");
+      return error(res, 400, "invalid_value", "expected {\"header\": CSV header line, \"resume_rows\": n or null}",
+                   "header");
     const std::string header = body["header"].get<std::string>();
     if (body.contains("resume_rows") && body["resume_rows"].is_number_unsigned()) {
       const std::size_t rows = body["resume_rows"].get<std::size_t>();
       if (!api::resumed_curve(c.store.live_curve_csv(job->id).value_or(header), rows)) {
         c.store.discard_partial_results(job->id);
-        return error(res, 409, "cannot_resume", "the store does not hold the " + std::to_string(rows) +
-                                                    " rows the checkpoint follows: start afresh");
+        return error(
+            res, 409, "cannot_resume",
+            "the store does not hold the " + std::to_string(rows) + " rows the checkpoint follows: start afresh");
       }
       return reply(res, 200, {{"resume", true}});
     }
@@ -108,7 +112,8 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
   router.post(R"(/v1/worker/jobs/(\d+)/results)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
-    if (job->status != JobStatus::running) return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+    if (job->status != JobStatus::running)
+      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
     const json body = json::parse(req.body, nullptr, false);
     std::vector<std::string> lines;
     std::vector<JobStore::SnapshotBlob> snapshots;
@@ -130,23 +135,29 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
   });
 
   // A checkpoint: the state after ?rows= curve rows and ?snapshots= snapshots (all sent before it).
-  router.post(R"(/v1/worker/jobs/(\d+)/checkpoint)", {"rows", "snapshots", "engine_version"}, [c](const http::Request& req, http::Response& res) {
-    const auto job = worker_job(c, req, res);
-    if (!job) return;
-    if (job->status != JobStatus::running) return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
-    long rows = -1, snapshots = -1;
-    if (!query_int(req, res, "rows", 0, 1L << 40, rows) || !query_int(req, res, "snapshots", 0, 1L << 20, snapshots)) return;
-    if (rows < 0 || snapshots < 0) return error(res, 400, "missing", "'rows' and 'snapshots' are required", "rows");
-    const std::string version = req.has_param("engine_version") ? req.get_param_value("engine_version") : "";
-    try {
-      CheckpointReader whole(req.body);  // its frame and checksum: a torn upload is refused, not stored
-    } catch (const CheckpointError& e) {
-      return error(res, 400, "invalid_value", std::string("unreadable checkpoint: ") + e.what(), "checkpoint");
-    }
-    const JobStore::Checkpoint cp{req.body, rows, snapshots, version};
-    c.store.append_results(job->id, std::size_t(rows), {}, {}, &cp);
-    reply(res, 200, {{"stored", true}});
-  });
+  router.post(
+      R"(/v1/worker/jobs/(\d+)/checkpoint)", {"rows", "snapshots", "engine_version"},
+      [c](const http::Request& req, http::Response& res) {
+        const auto job = worker_job(c, req, res);
+        if (!job) return;
+        if (job->status != JobStatus::running)
+          return error(res, 409, "wrong_state",
+                       "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+        long rows = -1, snapshots = -1;
+        if (!query_int(req, res, "rows", 0, 1L << 40, rows) ||
+            !query_int(req, res, "snapshots", 0, 1L << 20, snapshots))
+          return;
+        if (rows < 0 || snapshots < 0) return error(res, 400, "missing", "'rows' and 'snapshots' are required", "rows");
+        const std::string version = req.has_param("engine_version") ? req.get_param_value("engine_version") : "";
+        try {
+          CheckpointReader whole(req.body);  // its frame and checksum: a torn upload is refused, not stored
+        } catch (const CheckpointError& e) {
+          return error(res, 400, "invalid_value", std::string("unreadable checkpoint: ") + e.what(), "checkpoint");
+        }
+        const JobStore::Checkpoint cp{req.body, rows, snapshots, version};
+        c.store.append_results(job->id, std::size_t(rows), {}, {}, &cp);
+        reply(res, 200, {{"stored", true}});
+      });
 
   // How the run ended: succeeded (with its summary; the curve is the rows sent), failed, cancelled, or
   // interrupted (a signal: the time limit is near, or Slurm stops it), which the daemon turns into a
@@ -161,13 +172,15 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
       if (!body.contains("summary") || !body["summary"].is_object())
         return error(res, 400, "invalid_value", "a succeeded run sends its summary", "summary");
       const std::string csv = c.store.live_curve_csv(id).value_or("");
-      if (c.store.succeed(id, body["summary"].dump(), csv, api::curve_csv_to_json(csv).dump()) || job->status == JobStatus::succeeded)
+      if (c.store.succeed(id, body["summary"].dump(), csv, api::curve_csv_to_json(csv).dump()) ||
+          job->status == JobStatus::succeeded)
         return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::succeeded)}});
     } else if (outcome == "failed") {
       if (c.store.fail(id, text(body, "error", "the worker failed")) || job->status == JobStatus::failed)
         return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::failed)}});
     } else if (outcome == "cancelled") {
-      if (c.store.mark_cancelled(id) || job->status == JobStatus::cancelled) return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::cancelled)}});
+      if (c.store.mark_cancelled(id) || job->status == JobStatus::cancelled)
+        return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::cancelled)}});
     } else if (outcome == "interrupted") {
       if (job->cancel_requested || job->status == JobStatus::cancelled) {
         c.store.mark_cancelled(id);
@@ -182,15 +195,16 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
             return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::cancelled)}});
           case JobStore::Requeue::failed:
             return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::failed)}});
-          case JobStore::Requeue::not_active:
-            break;
+          case JobStore::Requeue::not_active: break;
         }
       }
     } else {
-      return error(res, 400, "invalid_value", "'outcome' must be succeeded, failed, cancelled or interrupted", "outcome");
+      return error(res, 400, "invalid_value", "'outcome' must be succeeded, failed, cancelled or interrupted",
+                   "outcome");
     }
     const auto now = c.store.get(id);
-    error(res, 409, "wrong_state", "job " + std::to_string(id) + " is " + (now ? api::status_name(now->status) : "gone"));
+    error(res, 409, "wrong_state",
+          "job " + std::to_string(id) + " is " + (now ? api::status_name(now->status) : "gone"));
   });
 }
 

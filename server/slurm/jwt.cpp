@@ -30,7 +30,8 @@ std::string base64url(const std::string& bytes) {
 
 std::string slurm_jwt(const std::string& key, const std::string& user, std::int64_t now, int lifespan_seconds) {
   const std::string header = base64url(R"({"alg":"HS256","typ":"JWT"})");
-  const std::string claims = base64url(nlohmann::json{{"exp", now + lifespan_seconds}, {"iat", now}, {"sun", user}}.dump());
+  const std::string claims =
+      base64url(nlohmann::json{{"exp", now + lifespan_seconds}, {"iat", now}, {"sun", user}}.dump());
   const std::string signed_part = header + "." + claims;
   unsigned char mac[EVP_MAX_MD_SIZE];
   unsigned int length = 0;

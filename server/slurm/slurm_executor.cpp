@@ -18,7 +18,6 @@ using server::JobRecord;
 
 namespace {
 
-
 bool final_state(const std::string& s) {
   return s == "COMPLETED" || s == "FAILED" || s == "CANCELLED" || s == "TIMEOUT" || s == "NODE_FAIL" ||
          s == "OUT_OF_MEMORY" || s == "PREEMPTED" || s == "BOOT_FAIL" || s == "DEADLINE";
@@ -117,8 +116,7 @@ int SlurmExecutor::time_limit_minutes(const JobRecord& job, int threads) const {
   try {
     const api::Spec spec = api::parse_spec_text(job.spec_json);
     seconds = spec.experiment->workload().sphere_steps() / (5e7 * std::max(1, threads));
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   const double minutes = std::ceil(3 * seconds / 60) + 5;
   return int(std::clamp(minutes, 1.0, double(options_.max_time_limit_minutes)));
 }
@@ -136,25 +134,25 @@ void SlurmExecutor::submit_queued() {
     try {
       const int own = api::parse_spec_text(job.spec_json).threads;
       if (own > 0) threads = own;
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
     const int minutes = time_limit_minutes(job, threads);
     if (!batches.empty() && job.sweep_id != 0 && batches.back().jobs.front().sweep_id == job.sweep_id &&
         batches.back().threads == threads && batches.back().minutes == minutes)
       batches.back().jobs.push_back(job);
-    else
-      batches.push_back({{job}, threads, minutes});
+    else batches.push_back({{job}, threads, minutes});
   }
   for (const Batch& batch : batches) {
     if (stopping_) return;
     std::string entries;
     for (const JobRecord& job : batch.jobs)
-      entries += (entries.empty() ? "" : ",") + std::to_string(job.id) + ":" + store_.worker_token(job.id, fresh_secret());
+      entries +=
+          (entries.empty() ? "" : ",") + std::to_string(job.id) + ":" + store_.worker_token(job.id, fresh_secret());
     const JobRecord& first = batch.jobs.front();
     const bool array = batch.jobs.size() > 1;
-    const std::string name = array ? "granulab-sweep" + std::to_string(first.sweep_id) + "-jobs" + std::to_string(first.id) + "-" +
-                                         std::to_string(batch.jobs.back().id)
-                                   : "granulab-" + std::to_string(first.id) + (first.label.empty() ? "" : "-" + name_part(first.label));
+    const std::string name =
+        array ? "granulab-sweep" + std::to_string(first.sweep_id) + "-jobs" + std::to_string(first.id) + "-" +
+                    std::to_string(batch.jobs.back().id)
+              : "granulab-" + std::to_string(first.id) + (first.label.empty() ? "" : "-" + name_part(first.label));
     json desc = {{"name", name},
                  {"current_working_directory", "/tmp"},
                  {"standard_output", options_.output},
@@ -182,7 +180,8 @@ void SlurmExecutor::submit_queued() {
       spdlog::error("jobs {}..{}: {}", first.id, batch.jobs.back().id, e.what());
       continue;
     } catch (const Unreachable& e) {  // slurmrestd or slurmctld away, a policy limit: they wait, and say why
-      for (const JobRecord& job : batch.jobs) store_.set_slurm_state(job.id, "", std::string("not submitted yet: ") + e.what(), false);
+      for (const JobRecord& job : batch.jobs)
+        store_.set_slurm_state(job.id, "", std::string("not submitted yet: ") + e.what(), false);
       throw;
     }
     // Every id first, then the cancels: a failing cancel must not leave the batch's later jobs unrecorded.
@@ -190,8 +189,8 @@ void SlurmExecutor::submit_queued() {
     for (std::size_t k = 0; k < batch.jobs.size(); ++k) {
       const std::string id = array ? std::to_string(slurm_id) + "_" + std::to_string(k) : std::to_string(slurm_id);
       if (!store_.set_slurm_job(batch.jobs[k].id, id)) cancelled.push_back(id);  // cancelled while being submitted
-      spdlog::info("job {} submitted to Slurm as {} ({} CPU(s), time limit {} min)", batch.jobs[k].id, id, batch.threads,
-                   batch.minutes);
+      spdlog::info("job {} submitted to Slurm as {} ({} CPU(s), time limit {} min)", batch.jobs[k].id, id,
+                   batch.threads, batch.minutes);
     }
     for (const std::string& id : cancelled) {
       cancels_sent_.insert(id);
@@ -203,7 +202,8 @@ void SlurmExecutor::submit_queued() {
 void SlurmExecutor::follow() {
   // One query per Slurm job id: an array's tasks all come with its master id.
   std::map<std::string, std::vector<JobRecord>> by_master;
-  for (JobRecord& job : store_.on_cluster()) by_master[job.slurm_job_id.substr(0, job.slurm_job_id.find('_'))].push_back(job);
+  for (JobRecord& job : store_.on_cluster())
+    by_master[job.slurm_job_id.substr(0, job.slurm_job_id.find('_'))].push_back(job);
   for (const auto& [master, jobs] : by_master) {
     if (stopping_) return;
     try {  // one Slurm job's trouble does not stop the others being followed

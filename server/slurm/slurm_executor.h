@@ -33,14 +33,14 @@ namespace granulab::server::slurm {
 
 struct ExecutorOptions {
   RestOptions rest;
-  std::string partition;       ///< empty: the cluster's default
-  std::string public_url;      ///< where workers reach this daemon, e.g. http://10.0.0.5:8080
-  std::string worker_binary;   ///< the granulab binary on the nodes (default: next to granulabd)
+  std::string partition;             ///< empty: the cluster's default
+  std::string public_url;            ///< where workers reach this daemon, e.g. http://10.0.0.5:8080
+  std::string worker_binary;         ///< the granulab binary on the nodes (default: next to granulabd)
   std::string output = "/dev/null";  ///< the Slurm jobs' standard output and error (Slurm's patterns, e.g. %j)
-  int threads_per_job = 1;     ///< cpus_per_task of a job whose spec leaves run.threads at 0
+  int threads_per_job = 1;           ///< cpus_per_task of a job whose spec leaves run.threads at 0
   double checkpoint_seconds = 60;
   int max_time_limit_minutes = 7 * 24 * 60;
-  int signal_seconds = 120;    ///< USR1 this long before the time limit
+  int signal_seconds = 120;  ///< USR1 this long before the time limit
   double poll_seconds = 2;
 };
 

@@ -5,7 +5,6 @@
 
 #include "server/slurm/jwt.h"
 
-
 namespace granulab::server::slurm {
 
 using nlohmann::json;
@@ -23,8 +22,7 @@ std::int64_t integer(const json& j, const char* key) {
   if (v.is_number_integer()) return v.get<std::int64_t>();
   if (v.is_string()) try {
       return std::stoll(v.get<std::string>());
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
   return -1;
 }
 
@@ -78,10 +76,10 @@ bool SlurmJob::covers_task(std::int64_t task) const {
       const std::size_t dash = part.find('-'), colon = part.find(':');
       const std::int64_t lo = std::stoll(part);
       const std::int64_t hi = dash == std::string::npos ? lo : std::stoll(part.substr(dash + 1));
-      const std::int64_t step = colon == std::string::npos ? 1 : std::max<std::int64_t>(1, std::stoll(part.substr(colon + 1)));
+      const std::int64_t step =
+          colon == std::string::npos ? 1 : std::max<std::int64_t>(1, std::stoll(part.substr(colon + 1)));
       if (task >= lo && task <= hi && (task - lo) % step == 0) return true;
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
   }
   return false;
 }
@@ -111,16 +109,16 @@ json RestClient::call(const std::string& method, const std::string& path, const 
   std::lock_guard<std::mutex> lock(mutex_);
   const std::string full = std::string("/slurm/") + kDialect + path;
   std::string problem;
-  const auto r = http_->send(method, full, {{"X-SLURM-USER-NAME", options_.user}, {"X-SLURM-USER-TOKEN", token()}}, body,
-                             "application/json", problem);
+  const auto r = http_->send(method, full, {{"X-SLURM-USER-NAME", options_.user}, {"X-SLURM-USER-TOKEN", token()}},
+                             body, "application/json", problem);
   if (!r) throw Unreachable("cannot reach slurmrestd at " + options_.url + " (" + problem + ")");
   status = r->status;
   if (r->status == 404 && r->body.find("Unable to find") != std::string::npos)
     throw Refused("slurmrestd at " + options_.url + " does not serve openapi/" + kDialect + " (" + method + " " + full +
                   ": " + r->body.substr(0, 200) + "); granulab speaks only that dialect (Slurm 22.05)");
   if (r->status == 401 || r->status == 403)  // e.g. an expired SLURM_JWT: jobs wait until it is replaced
-    throw Unreachable("slurmrestd refused the credentials of user '" + options_.user + "' (HTTP " + std::to_string(r->status) +
-                      "): check --slurm-user and the JWT key or SLURM_JWT");
+    throw Unreachable("slurmrestd refused the credentials of user '" + options_.user + "' (HTTP " +
+                      std::to_string(r->status) + "): check --slurm-user and the JWT key or SLURM_JWT");
   const json reply = json::parse(r->body, nullptr, false);
   if (!reply.is_object())
     throw Unreachable("slurmrestd answered " + method + " " + full + " with HTTP " + std::to_string(r->status) +
@@ -129,7 +127,8 @@ json RestClient::call(const std::string& method, const std::string& path, const 
   const json& meta = reply.contains("meta") ? reply["meta"] : json();
   const std::string plugin = meta.contains("plugin") ? text(meta["plugin"], "type") : "";
   if (!plugin.empty() && plugin != std::string("openapi/") + kDialect)
-    throw Refused("slurmrestd answers in dialect '" + plugin + "', granulab speaks openapi/" + kDialect + " (Slurm 22.05)");
+    throw Refused("slurmrestd answers in dialect '" + plugin + "', granulab speaks openapi/" + kDialect +
+                  " (Slurm 22.05)");
   return reply;
 }
 
@@ -139,7 +138,8 @@ std::string RestClient::check() {
   if (status >= 400 || !errors_of(reply).empty())
     throw Refused("slurmrestd ping failed (HTTP " + std::to_string(status) + "): " + errors_of(reply));
   std::string release = "Slurm";
-  if (reply.contains("meta") && reply["meta"].contains("Slurm")) release += " " + text(reply["meta"]["Slurm"], "release");
+  if (reply.contains("meta") && reply["meta"].contains("Slurm"))
+    release += " " + text(reply["meta"]["Slurm"], "release");
   return release + " (openapi/" + kDialect + ")";
 }
 
@@ -147,7 +147,8 @@ std::int64_t RestClient::submit(const json& job, const std::string& script) {
   int status = 0;
   const json reply = call("POST", "/job/submit", json{{"job", job}, {"script", script}}.dump(), status);
   if (const std::string errors = errors_of(reply); !errors.empty() || status >= 400) {
-    const std::string message = "(HTTP " + std::to_string(status) + "): " + (errors.empty() ? reply.dump().substr(0, 200) : errors);
+    const std::string message =
+        "(HTTP " + std::to_string(status) + "): " + (errors.empty() ? reply.dump().substr(0, 200) : errors);
     if (about_the_job(errors)) throw Refused("Slurm refused the job " + message);
     throw Unreachable("Slurm did not take the job now " + message);
   }
@@ -161,7 +162,8 @@ std::optional<std::vector<SlurmJob>> RestClient::job(const std::string& id) {
   const json reply = call("GET", "/job/" + id, "", status);
   if (unknown_job(reply)) return std::nullopt;
   if (const std::string errors = errors_of(reply); !errors.empty() || status >= 400)
-    throw Unreachable("slurmrestd could not say how job " + id + " is (HTTP " + std::to_string(status) + "): " + errors);
+    throw Unreachable("slurmrestd could not say how job " + id + " is (HTTP " + std::to_string(status) +
+                      "): " + errors);
   std::vector<SlurmJob> out;
   if (!reply.contains("jobs") || !reply["jobs"].is_array()) return out;
   for (const json& j : reply["jobs"]) {

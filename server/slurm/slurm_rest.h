@@ -32,21 +32,21 @@ struct Refused : std::runtime_error {
 /// One entry of a job query: a job, an array task, or an array's tasks still pending together.
 struct SlurmJob {
   std::int64_t job_id = 0;
-  std::int64_t array_job_id = 0;         ///< 0 unless part of an array
+  std::int64_t array_job_id = 0;  ///< 0 unless part of an array
   std::optional<std::int64_t> array_task_id;
-  std::string array_task_string;         ///< pending tasks not yet split out, e.g. "1-3,5" (array_task_id empty)
-  std::string state;                     ///< PENDING, RUNNING, COMPLETED, FAILED, CANCELLED, TIMEOUT, ...
-  std::string reason;                    ///< Slurm's state_reason ("None" dropped)
-  int exit_code = 0;                     ///< the raw wait status (exit 3 reads 768)
+  std::string array_task_string;  ///< pending tasks not yet split out, e.g. "1-3,5" (array_task_id empty)
+  std::string state;              ///< PENDING, RUNNING, COMPLETED, FAILED, CANCELLED, TIMEOUT, ...
+  std::string reason;             ///< Slurm's state_reason ("None" dropped)
+  int exit_code = 0;              ///< the raw wait status (exit 3 reads 768)
   /// True if this record stands for task `task` of its array.
   bool covers_task(std::int64_t task) const;
 };
 
 struct RestOptions {
-  std::string url;           ///< e.g. http://127.0.0.1:6820
-  std::string user;          ///< X-SLURM-USER-NAME, and the tokens' `sun`
-  std::string jwt_key;       ///< the key's bytes (mint tokens), or empty
-  std::string jwt;           ///< a fixed token (SLURM_JWT), used when there is no key
+  std::string url;      ///< e.g. http://127.0.0.1:6820
+  std::string user;     ///< X-SLURM-USER-NAME, and the tokens' `sun`
+  std::string jwt_key;  ///< the key's bytes (mint tokens), or empty
+  std::string jwt;      ///< a fixed token (SLURM_JWT), used when there is no key
 };
 
 class RestClient {

@@ -39,5 +39,4 @@ inline JobRecord read_job(const sqlite::Statement& st) {
   return r;
 }
 
-
 }  // namespace granulab::server

@@ -29,13 +29,9 @@ JobStore::JobStore(const std::string& path, std::int64_t max_bytes) : db_(std::m
 
 JobStore::~JobStore() = default;
 
-
-
-
-
 std::int64_t JobStore::submit(const std::string& spec_json, const std::string& experiment, const std::string& label,
-                              const std::string& spec_hash, const std::string& engine_version,
-                              const std::string& owner, int priority) {
+                              const std::string& spec_hash, const std::string& engine_version, const std::string& owner,
+                              int priority) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   Statement st(*db_,
@@ -45,8 +41,8 @@ std::int64_t JobStore::submit(const std::string& spec_json, const std::string& e
   st.bind(6, owner).bind(7, priority).bind(8, now_ms());
   st.run();
   const std::int64_t id = db_->last_insert_rowid();
-  log_event_locked(id, "submitted", experiment + (label.empty() ? "" : " \"" + label + "\"") + ", priority " +
-                                        std::to_string(priority));
+  log_event_locked(id, "submitted",
+                   experiment + (label.empty() ? "" : " \"" + label + "\"") + ", priority " + std::to_string(priority));
   tx.commit();
   return id;
 }
@@ -203,7 +199,9 @@ std::vector<JobRecord> JobStore::list(std::optional<JobStatus> status_filter, in
   Statement st(*db_, std::string("SELECT ") + kJobColumns +
                          " FROM jobs WHERE (?1 = '' OR status = ?1) AND (?4 = '' OR owner = ?4)"
                          " ORDER BY id DESC LIMIT ?2 OFFSET ?3");
-  st.bind(1, status_filter ? api::status_name(*status_filter) : "").bind(2, limit < 0 ? -1 : limit).bind(3, std::max<std::int64_t>(offset, 0));
+  st.bind(1, status_filter ? api::status_name(*status_filter) : "")
+      .bind(2, limit < 0 ? -1 : limit)
+      .bind(3, std::max<std::int64_t>(offset, 0));
   st.bind(4, owner_filter);
   std::vector<JobRecord> jobs;
   while (st.step()) jobs.push_back(read_job(st));
@@ -216,17 +214,6 @@ std::size_t JobStore::count(std::optional<JobStatus> status, const std::string& 
   st.bind(1, status ? api::status_name(*status) : "").bind(2, owner);
   return st.step() ? static_cast<std::size_t>(st.column_int64(0)) : 0;
 }
-
-
-
-
-
-
-
-
-
-
-
 
 std::optional<std::int64_t> JobStore::find_succeeded(const std::string& spec_hash, const std::string& engine_version) {
   if (spec_hash.empty()) return std::nullopt;
@@ -255,7 +242,9 @@ std::size_t JobStore::requeue_running(bool keep_cluster_jobs) {
     // A cancel asked for before the stop is honoured, not forgotten: the job ends cancelled, with what it
     // had computed.
     std::vector<std::int64_t> cancelled;
-    Statement st(*db_, "SELECT id FROM jobs WHERE status = 'running' AND cancel_requested = 1 AND slurm_job_id = '' ORDER BY id");
+    Statement st(
+        *db_,
+        "SELECT id FROM jobs WHERE status = 'running' AND cancel_requested = 1 AND slurm_job_id = '' ORDER BY id");
     while (st.step()) cancelled.push_back(st.column_int64(0));
     for (const std::int64_t id : cancelled)
       finish_locked(id, JobStatus::cancelled, {JobStatus::running}, "cancel requested before the daemon stopped");
@@ -275,8 +264,8 @@ std::size_t JobStore::requeue_running(bool keep_cluster_jobs) {
                     "WHERE id = ?1");
       job.bind(1, id).run();
       log_event_locked(id, "requeued",
-                       "was running when the daemon stopped; resumes from its checkpoint after " + std::to_string(rows) +
-                           " curve rows");
+                       "was running when the daemon stopped; resumes from its checkpoint after " +
+                           std::to_string(rows) + " curve rows");
       continue;
     }
     Statement job(*db_,
@@ -299,7 +288,6 @@ std::size_t JobStore::requeue_running(bool keep_cluster_jobs) {
   return ids.size();
 }
 
-
 std::optional<JobStatus> JobStore::status_locked(std::int64_t id) {
   Statement st(*db_, "SELECT status FROM jobs WHERE id = ?1");
   st.bind(1, id);
@@ -311,7 +299,5 @@ void JobStore::drop_checkpoint_locked(std::int64_t id) {
   Statement st(*db_, "DELETE FROM checkpoints WHERE job_id = ?1");
   st.bind(1, id).run();
 }
-
-
 
 }  // namespace granulab::server

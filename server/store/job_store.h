@@ -39,11 +39,11 @@ struct JobRecord {
   std::string spec_hash;
   std::string engine_version;
   std::string owner;
-  std::string error;         ///< empty unless failed
-  std::string summary_json;  ///< empty unless succeeded
-  int priority = 0;          ///< higher runs first
-  double progress = 0.0;     ///< 0..1
-  double eta_seconds = -1.0; ///< s; negative = unknown
+  std::string error;             ///< empty unless failed
+  std::string summary_json;      ///< empty unless succeeded
+  int priority = 0;              ///< higher runs first
+  double progress = 0.0;         ///< 0..1
+  double eta_seconds = -1.0;     ///< s; negative = unknown
   std::int64_t created_ms = 0;   ///< ms since the Unix epoch
   std::int64_t started_ms = 0;   ///< ms since the Unix epoch; 0 = not started
   std::int64_t finished_ms = 0;  ///< ms since the Unix epoch; 0 = not finished
@@ -64,8 +64,8 @@ struct SweepRecord {
 
 struct SnapshotInfo {
   int index = 0;
-  double strain = 0.0;     ///< axial strain at which the snapshot was taken (dimensionless)
-  std::size_t bytes = 0;   ///< size of the stored blob
+  double strain = 0.0;    ///< axial strain at which the snapshot was taken (dimensionless)
+  std::size_t bytes = 0;  ///< size of the stored blob
 };
 
 class JobStore {
@@ -74,7 +74,7 @@ class JobStore {
     cancelled_queued,   ///< was queued: now cancelled
     requested_running,  ///< is running: cancel_requested set, the worker stops and calls mark_cancelled
     not_found,
-    wrong_state,        ///< already succeeded, failed or cancelled
+    wrong_state,  ///< already succeeded, failed or cancelled
   };
 
   /// Opens or creates the database at `path` (":memory:" allowed) and brings its schema up to date.
@@ -124,7 +124,8 @@ class JobStore {
     std::string spec_json, experiment, label, spec_hash, values_json;
   };
   /// Creates the sweep and all its jobs (queued) in one transaction; returns the sweep's id and the jobs'.
-  std::pair<std::int64_t, std::vector<std::int64_t>> submit_sweep(const SweepRecord& sweep, const std::vector<SweepJob>& jobs,
+  std::pair<std::int64_t, std::vector<std::int64_t>> submit_sweep(const SweepRecord& sweep,
+                                                                  const std::vector<SweepJob>& jobs,
                                                                   const std::string& engine_version, int priority);
   std::optional<SweepRecord> get_sweep(std::int64_t id);
   /// Newest first; `owner_filter` empty = all.

@@ -75,9 +75,10 @@ void JobStore::set_slurm_state(std::int64_t id, const std::string& slurm_job_id,
 bool JobStore::mark_running(std::int64_t id, const std::string& slurm_job_id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  Statement st(*db_,
-               "UPDATE jobs SET status = 'running', started_ms = ?2, eta_seconds = -1 WHERE id = ?1 AND status = 'queued' "
-               "AND (?3 = '' OR slurm_job_id = ?3)");
+  Statement st(
+      *db_,
+      "UPDATE jobs SET status = 'running', started_ms = ?2, eta_seconds = -1 WHERE id = ?1 AND status = 'queued' "
+      "AND (?3 = '' OR slurm_job_id = ?3)");
   st.bind(1, id).bind(2, now_ms()).bind(3, slurm_job_id).run();
   if (db_->changes() > 0) log_event_locked(id, "started", "on the cluster");
   const std::optional<JobStatus> status = status_locked(id);
@@ -91,7 +92,8 @@ JobStore::Requeue JobStore::requeue_for_cluster(std::int64_t id, const std::stri
   bool cancel = false;
   int attempts = 0;
   {
-    Statement st(*db_, "SELECT cancel_requested, slurm_attempts FROM jobs WHERE id = ?1 AND status IN ('queued', 'running')");
+    Statement st(*db_,
+                 "SELECT cancel_requested, slurm_attempts FROM jobs WHERE id = ?1 AND status IN ('queued', 'running')");
     st.bind(1, id);
     if (!st.step()) return Requeue::not_active;
     cancel = st.column_int64(0) != 0;
@@ -99,8 +101,9 @@ JobStore::Requeue JobStore::requeue_for_cluster(std::int64_t id, const std::stri
   }
   // In the same transaction as the check: a cancel that came meanwhile is not lost to a new Slurm job.
   if (cancel || attempts >= max_attempts) {
-    const std::string error = cancel ? "" : reason + "; it had " + std::to_string(attempts) +
-                                                " Slurm jobs, the most one job may have (JobStore::kMaxSlurmAttempts)";
+    const std::string error = cancel ? ""
+                                     : reason + "; it had " + std::to_string(attempts) +
+                                           " Slurm jobs, the most one job may have (JobStore::kMaxSlurmAttempts)";
     finish_locked(id, cancel ? JobStatus::cancelled : JobStatus::failed, {JobStatus::queued, JobStatus::running},
                   cancel ? "cancel requested before it could be requeued" : error);
     Statement st(*db_, "UPDATE jobs SET error = ?2 WHERE id = ?1");

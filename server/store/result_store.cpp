@@ -65,7 +65,11 @@ void JobStore::append_results(std::int64_t id, std::size_t first_index, const st
                  "INSERT OR REPLACE INTO checkpoints (job_id, state, rows, snapshots, engine_version, at_ms) "
                  "VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
     cp.bind(1, id).bind_blob(2, std::vector<std::uint8_t>(checkpoint->state.begin(), checkpoint->state.end()));
-    cp.bind(3, checkpoint->rows).bind(4, checkpoint->snapshots).bind(5, checkpoint->engine_version).bind(6, now_ms()).run();
+    cp.bind(3, checkpoint->rows)
+        .bind(4, checkpoint->snapshots)
+        .bind(5, checkpoint->engine_version)
+        .bind(6, now_ms())
+        .run();
   }
   tx.commit();
 }

@@ -27,8 +27,7 @@ Database::Database(const std::string& path) : path_(path) {
     {
       // Answers the mode now in effect: "wal" for a file, "memory" for ":memory:".
       Statement journal(*this, "PRAGMA journal_mode = WAL");
-      while (journal.step()) {
-      }
+      while (journal.step()) {}
     }
     exec("PRAGMA foreign_keys = ON");
     Statement check(*this, "PRAGMA foreign_keys");
@@ -125,8 +124,7 @@ bool Statement::step() {
 }
 
 void Statement::run() {
-  while (step()) {
-  }
+  while (step()) {}
 }
 
 void Statement::reset() { sqlite3_reset(stmt_); }

@@ -14,11 +14,13 @@ using sqlite::Transaction;
 
 std::pair<std::int64_t, std::vector<std::int64_t>> JobStore::submit_sweep(const SweepRecord& sweep,
                                                                           const std::vector<SweepJob>& jobs,
-                                                                          const std::string& engine_version, int priority) {
+                                                                          const std::string& engine_version,
+                                                                          int priority) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
-  Statement s(*db_,
-              "INSERT INTO sweeps (label, owner, mode, base_json, vary_json, created_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+  Statement s(
+      *db_,
+      "INSERT INTO sweeps (label, owner, mode, base_json, vary_json, created_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
   s.bind(1, sweep.label).bind(2, sweep.owner).bind(3, sweep.mode).bind(4, sweep.base_json).bind(5, sweep.vary_json);
   s.bind(6, now_ms()).run();
   const std::int64_t sweep_id = db_->last_insert_rowid();
@@ -47,7 +49,6 @@ SweepRecord read_sweep(const Statement& st) {
 }
 
 }  // namespace
-
 
 std::optional<SweepRecord> JobStore::get_sweep(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);

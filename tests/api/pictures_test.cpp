@@ -42,7 +42,8 @@ GrainSnapshot reference_crystal(int grains_x = 4, int rows_z = 6, int layers_y =
   const double d = kSize / std::sqrt(2.0);
   for (std::size_t i = 0; i < s.id.size(); ++i)
     for (std::size_t j = i + 1; j < s.id.size(); ++j)
-      if ((s.position[i] - s.position[j]).norm() < 1.1 * d) s.interfaces.push_back({s.id[i], s.id[j]}), s.sliding.push_back(0);
+      if ((s.position[i] - s.position[j]).norm() < 1.1 * d)
+        s.interfaces.push_back({s.id[i], s.id[j]}), s.sliding.push_back(0);
   return s;
 }
 
@@ -95,7 +96,8 @@ TEST(SectionPicture, EveryGrainOfTheLayerIsAHexagonOfTheLayersVoronoiArea) {
     // the sections tile the layer without gaps or overlaps.
     double d = 1e300;
     for (std::size_t i = 0; i < grains.size(); ++i)
-      for (std::size_t j = i + 1; j < grains.size(); ++j) d = std::min(d, (centroid(grains[i]) - centroid(grains[j])).norm());
+      for (std::size_t j = i + 1; j < grains.size(); ++j)
+        d = std::min(d, (centroid(grains[i]) - centroid(grains[j])).norm());
     for (const Polygon& p : grains) {
       EXPECT_EQ(p.points.size(), 6u);
       EXPECT_NEAR(p.area(), std::sqrt(3.0) / 2 * d * d, 1e-4 * d * d);  // coordinates have 6 significant digits
@@ -208,8 +210,10 @@ TEST(Ticks, AreOneTwoOrFiveTimesAPowerOfTenAndCoverTheRange) {
 TEST(SvgText, EscapesMarkupAndDropsWhatXmlCannotHold) {
   EXPECT_EQ(xml_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&apos;");
   EXPECT_EQ(xml_escape("p\xc3\xa9tanque"), "p\xc3\xa9tanque");  // UTF-8 kept
-  EXPECT_EQ(xml_escape("bad\xff\xc3 byte\x01"), "bad byte");     // stray bytes and controls dropped
-  EXPECT_EQ(xml_escape("a\xef\xbf\xbf\xef\xbf\xbe\xed\xa0\x80" "b\xef\xbf\xbd"), "ab\xef\xbf\xbd");  // U+FFFF, U+FFFE, a surrogate: not XML
+  EXPECT_EQ(xml_escape("bad\xff\xc3 byte\x01"), "bad byte");    // stray bytes and controls dropped
+  EXPECT_EQ(xml_escape("a\xef\xbf\xbf\xef\xbf\xbe\xed\xa0\x80"
+                       "b\xef\xbf\xbd"),
+            "ab\xef\xbf\xbd");  // U+FFFF, U+FFFE, a surrogate: not XML
   EXPECT_EQ(num(NAN), "0");
   EXPECT_EQ(num(1.23456789, 3), "1.23");
 }

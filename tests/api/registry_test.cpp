@@ -82,7 +82,8 @@ TEST(Registry, CurveColumnsAndHeadlineValuesAppearOnlyInTheirExperimentsFolder) 
     const std::unique_ptr<Experiment> e = t.make();
     std::set<std::string> names;
     for (const CurveColumn& c : e->curve_columns()) names.insert(c.name);
-    for (const KeyValue& v : e->headline().values) names.insert(std::string(v.key).substr(0, std::string(v.key).find('.')));
+    for (const KeyValue& v : e->headline().values)
+      names.insert(std::string(v.key).substr(0, std::string(v.key).find('.')));
     for (const SummaryTable& table : e->headline().tables) names.insert(table.key);
     for (const char* root : {"api", "server", "clients/cli"})
       for (const auto& entry : fs::recursive_directory_iterator(kSource / root)) {
@@ -95,9 +96,10 @@ TEST(Registry, CurveColumnsAndHeadlineValuesAppearOnlyInTheirExperimentsFolder) 
           if (shared.count(name)) continue;
           for (const std::string& quoted : {"\"" + name + "\"", "'" + name + "'"})
             EXPECT_EQ(text.find(quoted), std::string::npos) << p << " names " << t.name << "'s " << quoted;
-          if (script)
-            for (const char after : {' ', ')', ',', ';', '.', '/', '*', '+', '-', '<', '>', '='})
-              EXPECT_EQ(text.find("." + name + after), std::string::npos) << p << " names " << t.name << "'s ." << name;
+          if (!script) continue;
+          for (const char after : {' ', ')', ',', ';', '.', '/', '*', '+', '-', '<', '>', '='}) {
+            EXPECT_EQ(text.find("." + name + after), std::string::npos) << p << " names " << t.name << "'s ." << name;
+          }
         }
       }
   }
@@ -107,7 +109,8 @@ TEST(Registry, CurveColumnsAndHeadlineValuesAppearOnlyInTheirExperimentsFolder) 
 // The one runner streams the same rows the summary counts, for every experiment (a short run of each).
 TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
   const std::map<std::string, std::string> short_specs = {
-      {"two_cube_sliding", R"({"grain": {"edge_spheres": 3}, "loading": {"rate_number": 1e-3}, "output": {"curve_points": 5}})"},
+      {"two_cube_sliding",
+       R"({"grain": {"edge_spheres": 3}, "loading": {"rate_number": 1e-3}, "output": {"curve_points": 5}})"},
       {"crystal_compression", R"({"grain": {"edge_spheres": 3}, "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
         "loading": {"confining_pressure": 30e3, "max_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"},
       {"crystal_confinement", R"({"grain": {"edge_spheres": 3}, "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
@@ -142,7 +145,8 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
     const std::string header = out.curve_csv.substr(0, out.curve_csv.find('\n'));
     EXPECT_EQ(header + "\n", [&] {
       std::string h;
-      for (const CurveColumn& c : parse_spec(doc).experiment->curve_columns()) h += (h.empty() ? "" : ",") + std::string(c.name);
+      for (const CurveColumn& c : parse_spec(doc).experiment->curve_columns())
+        h += (h.empty() ? "" : ",") + std::string(c.name);
       return h + "\n";
     }());
   }
@@ -171,8 +175,9 @@ TEST(Registry, DescriptionsMatchTheNormalisedDefaults) {
       EXPECT_FALSE(f["meaning"].get<std::string>().empty());
       if (field.find("[]") != std::string::npos) continue;  // list items: no default of their own
       const auto dot = field.find('.');
-      const nlohmann::json& value = dot == std::string::npos ? spec.normalized.at(field)
-                                                             : spec.normalized.at(field.substr(0, dot)).at(field.substr(dot + 1));
+      const nlohmann::json& value = dot == std::string::npos
+                                        ? spec.normalized.at(field)
+                                        : spec.normalized.at(field.substr(0, dot)).at(field.substr(dot + 1));
       EXPECT_EQ(value, f["default"]);
     }
   }

@@ -72,7 +72,8 @@ TEST(SpecDefaults, NullValuesMeanTheDefault) {
 
 // A NUL byte ends nlohmann's input: a document followed by one and garbage must not pass.
 TEST(SpecErrors, NulBytesAreInvalidJsonWhereverTheyAre) {
-  for (const std::string text : {std::string("{}\0", 3), std::string("{}\0garbage", 10), std::string("{\"label\": \"a\0b\"}", 15)}) {
+  for (const std::string text :
+       {std::string("{}\0", 3), std::string("{}\0garbage", 10), std::string("{\"label\": \"a\0b\"}", 15)}) {
     try {
       parse_spec_text(text);
       ADD_FAILURE() << "accepted a NUL byte";
@@ -125,9 +126,9 @@ TEST(SpecDefaults, ExplicitValuesAreTaken) {
 
 TEST(SpecDefaults, RangeBoundariesAreAccepted) {
   // Closed ends are allowed; edge_spheres 2 and 40, overlap 0 and 0.95, friction 0.
-  for (const char* text : {R"({"grain": {"edge_spheres": 2}})", R"({"grain": {"edge_spheres": 40}})",
-                           R"({"grain": {"overlap": 0}})", R"({"grain": {"overlap": 0.95}})",
-                           R"({"material": {"friction": 0}})", R"({"loading": {"prestrain": 0.1}})"}) {
+  for (const char* text :
+       {R"({"grain": {"edge_spheres": 2}})", R"({"grain": {"edge_spheres": 40}})", R"({"grain": {"overlap": 0}})",
+        R"({"grain": {"overlap": 0.95}})", R"({"material": {"friction": 0}})", R"({"loading": {"prestrain": 0.1}})"}) {
     SCOPED_TRACE(text);
     EXPECT_NO_THROW(parse_spec_text(text));
   }
@@ -155,8 +156,8 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   // "Quasi-static rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
   expected["loading"]["rate_number"] = 60e3 / 3e9;
   expected["crystal"]["knockout_regions"] = json::array();
-  expected["loading"]["wall_friction"] = 0.35;  // an extension: the platens' f, by default the grains'
-  expected["loading"]["confinement"] = "membrane";    // extensions: the bag, and no loading program
+  expected["loading"]["wall_friction"] = 0.35;      // an extension: the platens' f, by default the grains'
+  expected["loading"]["confinement"] = "membrane";  // extensions: the bag, and no loading program
   expected["loading"]["program"] = json::array();
   expected["imperfections"] = {{"size_dispersion", 0.0}, {"misorientation", 0.0}, {"seed", 1}};  // perfect grains
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
@@ -172,8 +173,11 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
 
 // The default rate follows the spec's own p0 and E, and a given rate is kept as given.
 TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
-  const auto rate = [](const char* text) { return parse_spec_text(text).normalized["loading"]["rate_number"].get<double>(); };
-  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 10000}})"), 1e4 / 3e9);
+  const auto rate = [](const char* text) {
+    return parse_spec_text(text).normalized["loading"]["rate_number"].get<double>();
+  };
+  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 10000}})"),
+                   1e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 30000},
                             "material": {"youngs_modulus": 1e9}})"),
                    3e-5);
@@ -227,7 +231,8 @@ TEST(SpecNormalized, RoundTripIsAFixedPoint) {
       EXPECT_EQ(again.as<TwoCubeSlidingExperiment>().params.material.friction,
                 first.as<TwoCubeSlidingExperiment>().params.material.friction);
     } else {
-      EXPECT_EQ(again.as<CrystalCompressionExperiment>().params.rows_z, first.as<CrystalCompressionExperiment>().params.rows_z);
+      EXPECT_EQ(again.as<CrystalCompressionExperiment>().params.rows_z,
+                first.as<CrystalCompressionExperiment>().params.rows_z);
     }
   }
 }
@@ -252,16 +257,15 @@ const std::vector<ErrorCase> kErrorCases = {
     {"UnknownMaterialKey", R"({"material": {"poisson": 0.3}})", "unknown_field", "material.poisson"},
     {"UnknownRunKey", R"({"run": {"thread": 4}})", "unknown_field", "run.thread"},
     {"UnknownKeyWithNullValue", R"({"grain": {"edge_sphere": null}})", "unknown_field", "grain.edge_sphere"},
-    {"CrystalSectionInTwoCube", R"({"experiment": "two_cube_sliding", "crystal": {"grains_x": 8}})",
-     "unknown_field", "crystal"},
+    {"CrystalSectionInTwoCube", R"({"experiment": "two_cube_sliding", "crystal": {"grains_x": 8}})", "unknown_field",
+     "crystal"},
     {"CrystalSectionInDefaultExperiment", R"({"crystal": {}})", "unknown_field", "crystal"},
     {"CrystalLoadingInTwoCube", R"({"loading": {"max_strain": 0.1}})", "unknown_field", "loading.max_strain"},
-    {"SnapshotsInTwoCube", R"({"output": {"snapshot_strains": [0.0]}})", "unknown_field",
-     "output.snapshot_strains"},
+    {"SnapshotsInTwoCube", R"({"output": {"snapshot_strains": [0.0]}})", "unknown_field", "output.snapshot_strains"},
     {"TwoCubeLoadingInCrystal", R"({"experiment": "crystal_compression", "loading": {"prestrain": 0.005}})",
      "unknown_field", "loading.prestrain"},
-    {"UnknownCrystalKey", R"({"experiment": "crystal_compression", "crystal": {"grain_x": 8}})",
-     "unknown_field", "crystal.grain_x"},
+    {"UnknownCrystalKey", R"({"experiment": "crystal_compression", "crystal": {"grain_x": 8}})", "unknown_field",
+     "crystal.grain_x"},
 
     // Wrong types.
     {"StringForNumber", R"({"grain": {"size": "0.01"}})", "wrong_type", "grain.size", "(0, 1]"},
@@ -277,15 +281,13 @@ const std::vector<ErrorCase> kErrorCases = {
     {"NumberForShape", R"({"grain": {"shape": 6}})", "wrong_type", "grain.shape"},
     {"NumberForKnockout", R"({"experiment": "crystal_compression", "crystal": {"knockout": 3}})", "wrong_type",
      "crystal.knockout"},
-    {"StringInKnockout", R"({"experiment": "crystal_compression", "crystal": {"knockout": ["a"]}})",
-     "wrong_type", "crystal.knockout"},
+    {"StringInKnockout", R"({"experiment": "crystal_compression", "crystal": {"knockout": ["a"]}})", "wrong_type",
+     "crystal.knockout"},
 
     // Out of range.
     {"EdgeSpheresTooFew", R"({"grain": {"edge_spheres": 1}})", "out_of_range", "grain.edge_spheres", "[2, 40]"},
-    {"EdgeSpheresTooMany", R"({"grain": {"edge_spheres": 41}})", "out_of_range", "grain.edge_spheres",
-     "[2, 40]"},
-    {"EdgeSpheresNegative", R"({"grain": {"edge_spheres": -3}})", "out_of_range", "grain.edge_spheres",
-     "[2, 40]"},
+    {"EdgeSpheresTooMany", R"({"grain": {"edge_spheres": 41}})", "out_of_range", "grain.edge_spheres", "[2, 40]"},
+    {"EdgeSpheresNegative", R"({"grain": {"edge_spheres": -3}})", "out_of_range", "grain.edge_spheres", "[2, 40]"},
     {"OverlapOne", R"({"grain": {"overlap": 1.0}})", "out_of_range", "grain.overlap", "[0, 0.95]"},
     {"SizeZero", R"({"grain": {"size": 0}})", "out_of_range", "grain.size", "(0, 1]"},
     {"FrictionNegative", R"({"material": {"friction": -0.1}})", "out_of_range", "material.friction", "[0, 10]"},
@@ -293,17 +295,15 @@ const std::vector<ErrorCase> kErrorCases = {
      "(0, 1e+13]"},
     {"PrestrainZero", R"({"loading": {"prestrain": 0}})", "out_of_range", "loading.prestrain", "(0, 0.1]"},
     {"MaxSlideTooLarge", R"({"loading": {"max_slide": 2}})", "out_of_range", "loading.max_slide", "(0, 1.5]"},
-    {"CurvePointsZero", R"({"output": {"curve_points": 0}})", "out_of_range", "output.curve_points",
-     "[1, 100000]"},
+    {"CurvePointsZero", R"({"output": {"curve_points": 0}})", "out_of_range", "output.curve_points", "[1, 100000]"},
     {"ThreadsNegative", R"({"run": {"threads": -1}})", "out_of_range", "run.threads", "[0, 256]"},
     {"LabelTooLong", R"({"label": ")" + std::string(201, 'x') + R"("})", "out_of_range", "label", "200"},
     {"WallFrictionNegative", R"({"experiment": "crystal_compression", "loading": {"wall_friction": -0.1}})",
      "out_of_range", "loading.wall_friction", "[0, 10]"},
-    {"KnockoutNegative", R"({"experiment": "crystal_compression", "crystal": {"knockout": [-1]}})",
-     "out_of_range", "crystal.knockout", "[0, 863]"},
-    {"SnapshotStrainTooLarge",
-     R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0.0, 0.9]}})", "out_of_range",
-     "output.snapshot_strains", "[0, 0.1]"},
+    {"KnockoutNegative", R"({"experiment": "crystal_compression", "crystal": {"knockout": [-1]}})", "out_of_range",
+     "crystal.knockout", "[0, 863]"},
+    {"SnapshotStrainTooLarge", R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0.0, 0.9]}})",
+     "out_of_range", "output.snapshot_strains", "[0, 0.1]"},
     {"SnapshotBeyondMaxStrain",
      R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02}, "output": {"snapshot_strains": [0.04]}})",
      "out_of_range", "output.snapshot_strains", "[0, 0.02]"},
@@ -322,9 +322,8 @@ const std::vector<ErrorCase> kErrorCases = {
     {"ProgramDeviatorBelowMinusP0",
      R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 30000, "program": [{"to_strain": 0.01}, {"to_deviator": -30000}]}})",
      "out_of_range", "loading.program[1].to_deviator", "above -p0"},
-    {"ProgramHoldZeroSteps",
-     R"({"experiment": "crystal_compression", "loading": {"program": [{"hold_steps": 0}]}})", "out_of_range",
-     "loading.program[0].hold_steps", "[1, 100000000]"},
+    {"ProgramHoldZeroSteps", R"({"experiment": "crystal_compression", "loading": {"program": [{"hold_steps": 0}]}})",
+     "out_of_range", "loading.program[0].hold_steps", "[1, 100000000]"},
     {"ProgramSegmentUnknownKey",
      R"({"experiment": "crystal_compression", "loading": {"program": [{"to_strain": 0.01}, {"to_stress": 1}]}})",
      "unknown_field", "loading.program[1].to_stress"},
@@ -337,10 +336,10 @@ const std::vector<ErrorCase> kErrorCases = {
      "out_of_range", "crystal", "50,000,000"},
 
     // Invalid choices.
-    {"RhombicDodecahedronInTwoCube", R"({"grain": {"shape": "rhombic_dodecahedron"}})", "invalid_value",
-     "grain.shape", "cube"},
-    {"UnknownShapeInCrystal", R"({"experiment": "crystal_compression", "grain": {"shape": "sphere"}})",
-     "invalid_value", "grain.shape", "rhombic_dodecahedron"},
+    {"RhombicDodecahedronInTwoCube", R"({"grain": {"shape": "rhombic_dodecahedron"}})", "invalid_value", "grain.shape",
+     "cube"},
+    {"UnknownShapeInCrystal", R"({"experiment": "crystal_compression", "grain": {"shape": "sphere"}})", "invalid_value",
+     "grain.shape", "rhombic_dodecahedron"},
     {"UnknownExperiment", R"({"experiment": "triaxial"})", "invalid_value", "experiment", "crystal_compression"},
 
     // The document itself.
@@ -358,8 +357,13 @@ const std::vector<ErrorCase> kErrorCases = {
     {"HugeNumberInAList", R"({"experiment": "crystal_compression", "output": {"snapshot_strains": [0, 1e999]}})",
      "out_of_range", "output.snapshot_strains[1]"},
     // Nesting is bounded while parsing (the limit is 64 levels).
-    {"TooDeep", std::string(65, '[') + std::string(65, ']'), "too_deep", "[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]", "64"},
-    {"TooDeepInALabel", R"({"label": )" + std::string(100, '[') + "1" + std::string(100, ']') + "}", "too_deep", "label[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]"},
+    {"TooDeep", std::string(65, '[') + std::string(65, ']'), "too_deep",
+     "[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]["
+     "0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]",
+     "64"},
+    {"TooDeepInALabel", R"({"label": )" + std::string(100, '[') + "1" + std::string(100, ']') + "}", "too_deep",
+     "label[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]"
+     "[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]"},
     {"InvalidUtf8InALabel", "{\"label\": \"caf\xe9\"}", "invalid_json", ""},
 };
 
@@ -583,8 +587,14 @@ TEST(SpecDefaults, DefaultSnapshotsStopAtMaxStrain) {
 
 // The platens' friction follows the grains' unless given.
 TEST(SpecDefaults, WallFrictionFollowsMaterialFriction) {
-  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "material": {"friction": 0.2}})").as<CrystalCompressionExperiment>().params.wall_friction, 0.2);
-  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"wall_friction": 1.5}})").as<CrystalCompressionExperiment>().params.wall_friction, 1.5);
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "material": {"friction": 0.2}})")
+                .as<CrystalCompressionExperiment>()
+                .params.wall_friction,
+            0.2);
+  EXPECT_EQ(parse_spec_text(R"({"experiment": "crystal_compression", "loading": {"wall_friction": 1.5}})")
+                .as<CrystalCompressionExperiment>()
+                .params.wall_friction,
+            1.5);
 }
 
 }  // namespace

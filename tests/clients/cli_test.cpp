@@ -111,7 +111,8 @@ class CliTest : public ::testing::Test {
     if (pid == 0) {  // child: only async-signal-safe calls until exec
       const int out_fd = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       const int err_fd = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (out_fd < 0 || err_fd < 0 || ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(err_fd, STDERR_FILENO) < 0) _exit(127);
+      if (out_fd < 0 || err_fd < 0 || ::dup2(out_fd, STDOUT_FILENO) < 0 || ::dup2(err_fd, STDERR_FILENO) < 0)
+        _exit(127);
       ::close(out_fd);
       ::close(err_fd);
       ::chdir(dir_.c_str());  // relative paths a run might create land in the scratch directory
@@ -150,7 +151,7 @@ class CliTest : public ::testing::Test {
   /// Replaces "{SPEC}" and "{OUT}" by dir/spec.json and dir/out.
   std::string substitute(std::string s) const {
     const std::pair<std::string, std::string> tokens[] = {{"{SPEC}", (dir_ / "spec.json").string()},
-                                                         {"{OUT}", (dir_ / "out").string()}};
+                                                          {"{OUT}", (dir_ / "out").string()}};
     for (const auto& [token, value] : tokens)
       for (std::size_t at; (at = s.find(token)) != std::string::npos;) s.replace(at, token.size(), value);
     return s;
@@ -280,7 +281,8 @@ TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
     "loading": {"confining_pressure": 30e3, "max_strain": 0.02, "rate_number": 2e-6},
     "output": {"curve_points": 100, "snapshot_strains": [0.0, 0.01, 0.02]}})");
   const std::string whole = (dir_ / "whole").string(), out = (dir_ / "out").string(), cdir = (dir_ / "ck").string();
-  ASSERT_EQ(run({"run", spec.string(), "--out", whole, "--threads", "1", "--quiet"}, std::chrono::seconds(120)).exit_code, 0);
+  ASSERT_EQ(
+      run({"run", spec.string(), "--out", whole, "--threads", "1", "--quiet"}, std::chrono::seconds(120)).exit_code, 0);
   // Killed once a checkpoint exists and the curve has moved past it. A checkpoint is written to a .tmp
   // file and renamed: only a renamed one counts (a kill during the first write left nothing to resume).
   const auto checkpointed = [&] {
@@ -289,14 +291,14 @@ TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
     for (const auto& entry : fs::directory_iterator(cdir)) complete = complete || entry.path().extension() == ".bin";
     return complete && lines_of(slurp(fs::path(out) / "curve.csv")).size() > 40;
   };
-  const RunResult killed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir,
-                                "--checkpoint-seconds", "1"},
+  const RunResult killed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir",
+                                cdir, "--checkpoint-seconds", "1"},
                                std::chrono::seconds(120), checkpointed);
   ASSERT_EQ(killed.exit_code, -1) << "the run ended before it could be killed: " << killed.err;
   EXPECT_FALSE(fs::exists(fs::path(out) / "summary.json"));
-  const RunResult resumed = run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir,
-                                 "--resume"},
-                                std::chrono::seconds(120));
+  const RunResult resumed =
+      run({"run", spec.string(), "--out", out, "--threads", "1", "--quiet", "--checkpoint-dir", cdir, "--resume"},
+          std::chrono::seconds(120));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.err.find("resuming from"), std::string::npos) << resumed.err;
   EXPECT_EQ(slurp(fs::path(out) / "curve.csv"), slurp(fs::path(whole) / "curve.csv"));
@@ -305,11 +307,12 @@ TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
     EXPECT_EQ(slurp(fs::path(out) / "snapshots" / entry.path().filename()), slurp(entry.path())) << entry.path();
     ++files;
   }
-  EXPECT_EQ(files, 12);  // 3 snapshots x 4 files
+  EXPECT_EQ(files, 12);             // 3 snapshots x 4 files
   EXPECT_TRUE(fs::is_empty(cdir));  // a finished run's checkpoint is removed
   // --resume without a checkpoint starts from zero, with a warning.
-  const RunResult fresh = run({"run", spec.string(), "--out", (dir_ / "fresh").string(), "--quiet", "--checkpoint-dir",
-                               cdir, "--resume"}, std::chrono::seconds(120));
+  const RunResult fresh =
+      run({"run", spec.string(), "--out", (dir_ / "fresh").string(), "--quiet", "--checkpoint-dir", cdir, "--resume"},
+          std::chrono::seconds(120));
   EXPECT_EQ(fresh.exit_code, 0);
   EXPECT_NE(fresh.err.find("starting from zero"), std::string::npos) << fresh.err;
 }
@@ -358,15 +361,15 @@ constexpr const char* kSmallSpecTwoThreads = R"({
 
 INSTANTIATE_TEST_SUITE_P(
     Cli, CliThreadsTest,
-    ::testing::Values(
-        ThreadsCase{"flag_last", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}},
-        ThreadsCase{"flag_first", kSmallSpec, {"run", "--threads", "1", "--out", "{OUT}", "{SPEC}"}},
-        ThreadsCase{"spec_field",
-                    R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
+    ::testing::Values(ThreadsCase{"flag_last", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}},
+                      ThreadsCase{"flag_first", kSmallSpec, {"run", "--threads", "1", "--out", "{OUT}", "{SPEC}"}},
+                      ThreadsCase{"spec_field",
+                                  R"({"grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-3},
                         "output": {"curve_points": 20}, "run": {"threads": 1}})",
-                    {"run", "{SPEC}", "--out", "{OUT}"}},
-        ThreadsCase{"flag_overrides_spec", kSmallSpecTwoThreads,
-                    {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}}),
+                                  {"run", "{SPEC}", "--out", "{OUT}"}},
+                      ThreadsCase{"flag_overrides_spec",
+                                  kSmallSpecTwoThreads,
+                                  {"run", "{SPEC}", "--out", "{OUT}", "--threads", "1"}}),
     [](const ::testing::TestParamInfo<ThreadsCase>& info) { return std::string(info.param.name); });
 
 // ---------------------------------------------------------------------------------------------
@@ -374,9 +377,9 @@ INSTANTIATE_TEST_SUITE_P(
 
 struct BadCase {
   const char* name;
-  std::optional<std::string> spec;       ///< spec file contents; nullopt = the file does not exist
-  std::vector<std::string> args;         ///< "{SPEC}" and "{OUT}" are replaced by the paths
-  std::vector<std::string> must_mention; ///< substrings of stderr; "{SPEC}" is replaced too
+  std::optional<std::string> spec;        ///< spec file contents; nullopt = the file does not exist
+  std::vector<std::string> args;          ///< "{SPEC}" and "{OUT}" are replaced by the paths
+  std::vector<std::string> must_mention;  ///< substrings of stderr; "{SPEC}" is replaced too
 };
 
 void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
@@ -407,32 +410,45 @@ const std::vector<std::string> kRunArgs{"run", "{SPEC}", "--out", "{OUT}"};
 INSTANTIATE_TEST_SUITE_P(
     Cli, CliBadInputTest,
     ::testing::Values(
-        BadCase{"unknown_field", R"({"grain": {"edge_sphere": 4}})", kRunArgs, {"'grain.edge_sphere'", "unknown field"}},
-        BadCase{"unknown_top_level_field", R"({"experiment": "two_cube_sliding", "lable": "x"})", kRunArgs,
-                {"'lable'"}},
+        BadCase{
+            "unknown_field", R"({"grain": {"edge_sphere": 4}})", kRunArgs, {"'grain.edge_sphere'", "unknown field"}},
+        BadCase{
+            "unknown_top_level_field", R"({"experiment": "two_cube_sliding", "lable": "x"})", kRunArgs, {"'lable'"}},
         BadCase{"out_of_range", R"({"grain": {"edge_spheres": 1}})", kRunArgs, {"'grain.edge_spheres'", "[2, 40]"}},
         BadCase{"out_of_range_real", R"({"material": {"friction": -0.1}})", kRunArgs, {"'material.friction'"}},
-        BadCase{"wrong_type_string_for_number", R"({"material": {"friction": "high"}})", kRunArgs,
+        BadCase{"wrong_type_string_for_number",
+                R"({"material": {"friction": "high"}})",
+                kRunArgs,
                 {"'material.friction'", "number"}},
-        BadCase{"wrong_type_fraction_for_integer", R"({"grain": {"edge_spheres": 4.5}})", kRunArgs,
+        BadCase{"wrong_type_fraction_for_integer",
+                R"({"grain": {"edge_spheres": 4.5}})",
+                kRunArgs,
                 {"'grain.edge_spheres'", "integer"}},
         BadCase{"wrong_type_section", R"({"grain": 4})", kRunArgs, {"'grain'", "object"}},
         BadCase{"spec_not_an_object", "[1, 2]", kRunArgs, {"object"}},
         BadCase{"invalid_json", R"({"grain": {"edge_spheres": 4)", kRunArgs, {"{SPEC}", "JSON"}},
         BadCase{"empty_spec_file", "", kRunArgs, {"JSON"}},
         BadCase{"unknown_experiment", R"({"experiment": "triaxial"})", kRunArgs, {"'experiment'", "triaxial"}},
-        BadCase{"crystal_with_cube_grains", R"({"experiment": "crystal_compression", "grain": {"shape": "cube"}})",
-                kRunArgs, {"'grain.shape'", "rhombic_dodecahedron"}},
-        BadCase{"crystal_knockout_outside", R"({"experiment": "crystal_compression", "crystal": {"knockout": [864]}})",
-                kRunArgs, {"'crystal.knockout'", "[0, 863]"}},
+        BadCase{"crystal_with_cube_grains",
+                R"({"experiment": "crystal_compression", "grain": {"shape": "cube"}})",
+                kRunArgs,
+                {"'grain.shape'", "rhombic_dodecahedron"}},
+        BadCase{"crystal_knockout_outside",
+                R"({"experiment": "crystal_compression", "crystal": {"knockout": [864]}})",
+                kRunArgs,
+                {"'crystal.knockout'", "[0, 863]"}},
         BadCase{"missing_spec_file", std::nullopt, kRunArgs, {"{SPEC}"}},
         BadCase{"missing_out", kSmallSpec, {"run", "{SPEC}"}, {"--out"}},
         BadCase{"out_without_value", kSmallSpec, {"run", "{SPEC}", "--out"}, {"--out"}},
         BadCase{"missing_spec_argument", kSmallSpec, {"run", "--out", "{OUT}"}, {"SPEC"}},
         BadCase{"unexpected_argument", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--fast"}, {"'--fast'"}},
-        BadCase{"threads_not_a_number", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "abc"},
+        BadCase{"threads_not_a_number",
+                kSmallSpec,
+                {"run", "{SPEC}", "--out", "{OUT}", "--threads", "abc"},
                 {"'--threads'", "[1, 256]"}},
-        BadCase{"threads_out_of_range", kSmallSpec, {"run", "{SPEC}", "--out", "{OUT}", "--threads", "0"},
+        BadCase{"threads_out_of_range",
+                kSmallSpec,
+                {"run", "{SPEC}", "--out", "{OUT}", "--threads", "0"},
                 {"'--threads'", "[1, 256]"}},
         BadCase{"unknown_command", kSmallSpec, {"frobnicate"}, {"'frobnicate'", "usage"}},
         BadCase{"no_command", kSmallSpec, {}, {"usage"}}),
@@ -443,13 +459,19 @@ INSTANTIATE_TEST_SUITE_P(
 
 // --help and --version work alone and after any command: usage or version on stdout, exit 0, nothing run.
 TEST_F(CliTest, HelpAndVersionForEveryCommand) {
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"--help"}, {"-h"}, {"help"}, {"run", "--help"}, {"submit", "--help"}, {"wait", "7", "--help"}, {"list", "-h"}}) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"--help"},
+                                                                                    {"-h"},
+                                                                                    {"help"},
+                                                                                    {"run", "--help"},
+                                                                                    {"submit", "--help"},
+                                                                                    {"wait", "7", "--help"},
+                                                                                    {"list", "-h"}}) {
     const RunResult r = run(args);
     EXPECT_EQ(r.exit_code, 0) << args[0] << ": " << r.err;
     EXPECT_NE(r.out.find("usage: granulab run"), std::string::npos) << args[0];
   }
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"--version"}, {"-V"}, {"run", "--version"}}) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"--version"}, {"-V"}, {"run", "--version"}}) {
     const RunResult r = run(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)"))) << r.out;
@@ -460,7 +482,8 @@ TEST_F(CliTest, VersionPrintsAVersionAndExitsZero) {
   const RunResult r = run({"version"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // The project version and the hash of the sources that compute results (cmake/engine_version.cmake).
-  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)"))) << "stdout: '" << r.out << "'";
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)")))
+      << "stdout: '" << r.out << "'";
 }
 
 }  // namespace

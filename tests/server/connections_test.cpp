@@ -39,7 +39,9 @@ struct Socket {
     if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) ADD_FAILURE() << "connect failed";
   }
   ~Socket() { ::close(fd); }
-  bool send(const std::string& bytes) { return ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL) == ssize_t(bytes.size()); }
+  bool send(const std::string& bytes) {
+    return ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL) == ssize_t(bytes.size());
+  }
   // Everything received until `done` holds, the peer closes, or `ms` pass.
   template <typename Done>
   std::string receive_until(Done done, int ms = 5000) {
@@ -148,16 +150,20 @@ TEST_F(Connections, ExpectContinueIsAnswered) {
   spec["label"] = "padded";
   std::string body = spec.dump() + std::string(40000, ' ');
   Socket s(port_);
-  ASSERT_TRUE(s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nExpect: 100-continue\r\n"
-                     "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n"));
-  const std::string go = s.receive_until([](const std::string& got) { return got.find("\r\n\r\n") != std::string::npos; });
+  ASSERT_TRUE(
+      s.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nExpect: 100-continue\r\n"
+             "Content-Length: " +
+             std::to_string(body.size()) + "\r\n\r\n"));
+  const std::string go =
+      s.receive_until([](const std::string& got) { return got.find("\r\n\r\n") != std::string::npos; });
   EXPECT_EQ(go, "HTTP/1.1 100 Continue\r\n\r\n");
   ASSERT_TRUE(s.send(body));
   const std::string r = s.response();
   EXPECT_EQ(status_of(r), 201) << r;
 
   Socket big(port_);
-  ASSERT_TRUE(big.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: 10000000\r\n\r\n"));
+  ASSERT_TRUE(
+      big.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: 10000000\r\n\r\n"));
   const std::string refused = big.response();
   EXPECT_EQ(status_of(refused), 413) << refused;
 }

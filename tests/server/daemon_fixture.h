@@ -33,7 +33,7 @@ class Daemon : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() / ("granulab_http_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(dir_);
     store_ = std::make_unique<JobStore>((dir_ / "jobs.db").string());
     pool_ = std::make_unique<WorkerPool>(*store_, 1, 1, 0.05);
@@ -43,7 +43,8 @@ class Daemon : public ::testing::Test {
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });
     client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
-    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   // A new HTTP front on the same store and pool, with other options (tokens, limits).
   void restart(const HttpOptions& options) {
@@ -55,7 +56,8 @@ class Daemon : public ::testing::Test {
     ASSERT_GT(port_, 0);
     serving_ = std::thread([this] { http_->serve(); });
     client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
-    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   void TearDown() override {
     http_->stop();
@@ -105,6 +107,5 @@ class Daemon : public ::testing::Test {
   std::thread serving_;
   int port_ = 0;
 };
-
 
 }  // namespace granulab::server

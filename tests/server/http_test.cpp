@@ -101,7 +101,8 @@ TEST_F(Daemon, AThrowingJobFailsWithItsMessage) {
   pool_->start();
   // Valid spec, impossible crystal: knocking out both grains of a 2-grain crystal leaves nothing to load.
   const std::int64_t id = post("/v1/jobs", R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
-      "crystal": {"grains_x": 2, "rows_z": 1, "layers_y": 1, "knockout": [0, 1]}})", 201)["id"];
+      "crystal": {"grains_x": 2, "rows_z": 1, "layers_y": 1, "knockout": [0, 1]}})",
+                               201)["id"];
   const json done = wait(id);
   EXPECT_EQ(done["status"], "failed");
   EXPECT_NE(done["error"].get<std::string>().find("fewer than two grains"), std::string::npos) << done.dump();
@@ -160,7 +161,8 @@ TEST_F(Daemon, TwentyJobsFromFourClientsRunAtMostKAtATime) {
   port_ = http_->bind("127.0.0.1", 0);
   serving_ = std::thread([this] { http_->serve(); });
   client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
-  for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   pool_->start();
 
   std::vector<std::int64_t> ids;
@@ -244,7 +246,8 @@ TEST_F(Daemon, CliRemoteCommands) {
   std::stringstream text;
   text << curve.rdbuf();
   EXPECT_EQ(text.str(), api::run_spec(api::parse_spec_text(kTwoCube)).curve_csv);
-  for (const char* file : {"summary.json", "spec.json", "curve.svg"}) EXPECT_TRUE(fs::exists(dir_ / "r" / file)) << file;
+  for (const char* file : {"summary.json", "spec.json", "curve.svg"})
+    EXPECT_TRUE(fs::exists(dir_ / "r" / file)) << file;
   std::tie(code, out) = shell(cli + " list" + server);
   EXPECT_EQ(code, 0);
   EXPECT_NE(out.find("succeeded"), std::string::npos) << out;
@@ -264,12 +267,14 @@ TEST_F(Daemon, CliRemoteCommands) {
   EXPECT_EQ(code, 0) << out;
   // The results of a job that did not succeed: what it computed, no summary, exit 1 saying why.
   const std::int64_t cancelled = post("/v1/jobs", R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
-    "loading": {"rate_number": 1e-8}, "output": {"curve_points": 1}})", 201)["id"];
+    "loading": {"rate_number": 1e-8}, "output": {"curve_points": 1}})",
+                                      201)["id"];
   for (int k = 0; k < 500 && get("/v1/jobs/" + std::to_string(cancelled))["status"] != "running"; ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   post("/v1/jobs/" + std::to_string(cancelled) + "/cancel", "", 202);
   ASSERT_EQ(wait(cancelled, 5)["status"], "cancelled");
-  std::tie(code, out) = shell(cli + " results " + std::to_string(cancelled) + " --out " + (dir_ / "partial").string() + server);
+  std::tie(code, out) =
+      shell(cli + " results " + std::to_string(cancelled) + " --out " + (dir_ / "partial").string() + server);
   EXPECT_EQ(code, 1) << out;
   EXPECT_NE(out.find("is cancelled"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir_ / "partial" / "curve.csv"));
@@ -305,13 +310,13 @@ TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
   const std::int64_t second = std::stoll(out);
   std::tie(code, out) = shell(cli + " wait " + std::to_string(first) + " " + std::to_string(second) + server);
   EXPECT_EQ(code, 0) << out;
-  for (std::int64_t id : {first, second})
-    EXPECT_NE(out.find("job " + std::to_string(id)), std::string::npos) << out;
+  for (std::int64_t id : {first, second}) EXPECT_NE(out.find("job " + std::to_string(id)), std::string::npos) << out;
   EXPECT_NE(out.find("succeeded [####################] 100.0 %"), std::string::npos) << out;
 
   // A sweep: 2 x 2 jobs, sweep.csv with a row each and the varied values, a folder per job with its curve.
-  std::tie(code, out) = shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,0.3 --vary loading.max_slide=0.2,0.4" +
-                              " --label cli --out " + (dir_ / "sweep").string() + server);
+  std::tie(code, out) =
+      shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,0.3 --vary loading.max_slide=0.2,0.4" +
+            " --label cli --out " + (dir_ / "sweep").string() + server);
   ASSERT_EQ(code, 0) << out;
   std::ifstream table(dir_ / "sweep" / "sweep.csv");
   std::vector<std::string> rows;
@@ -322,7 +327,8 @@ TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
   for (std::size_t r = 1; r < rows.size(); ++r) {
     std::stringstream cells(rows[r]);
     std::string id, slide, friction, status;
-    std::getline(cells, id, ','), std::getline(cells, slide, ','), std::getline(cells, friction, ','), std::getline(cells, status, ',');
+    std::getline(cells, id, ','), std::getline(cells, slide, ','), std::getline(cells, friction, ','),
+        std::getline(cells, status, ',');
     EXPECT_EQ(status, "succeeded") << rows[r];
     points.insert(slide + "/" + friction);
     const json job = get("/v1/jobs/" + id);
@@ -332,16 +338,19 @@ TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
     EXPECT_TRUE(fs::exists(dir_ / "sweep" / id / "summary.json")) << id;
   }
   EXPECT_EQ(points, (std::set<std::string>{"0.2/0.1", "0.2/0.3", "0.4/0.1", "0.4/0.3"}));
-  std::tie(code, out) = shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,99 --out " + (dir_ / "bad").string() + server);
+  std::tie(code, out) = shell(cli + " sweep " + spec.string() + " --vary material.friction=0.1,99 --out " +
+                              (dir_ / "bad").string() + server);
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("vary.material.friction"), std::string::npos) << out;
 
   // results of a crystal: every snapshot in the four formats, as `granulab run` names them.
   const std::int64_t crystal = post("/v1/jobs", R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 3},
     "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3, "max_strain": 2e-3,
-    "rate_number": 1e-4}, "output": {"curve_points": 5, "snapshot_strains": [0, 2e-3]}})", 201)["id"];
+    "rate_number": 1e-4}, "output": {"curve_points": 5, "snapshot_strains": [0, 2e-3]}})",
+                                    201)["id"];
   ASSERT_EQ(wait(crystal)["status"], "succeeded");
-  std::tie(code, out) = shell(cli + " results " + std::to_string(crystal) + " --out " + (dir_ / "crystal").string() + server);
+  std::tie(code, out) =
+      shell(cli + " results " + std::to_string(crystal) + " --out " + (dir_ / "crystal").string() + server);
   ASSERT_EQ(code, 0) << out;
   for (int k : {0, 1})
     for (const char* suffix : {".json", ".dump", "_grains.vtk", "_interfaces.vtk"}) {
@@ -372,7 +381,8 @@ TEST_F(Daemon, LiveCurveGrowsAndACancelledJobKeepsItsRows) {
   const std::string path = "/v1/jobs/" + std::to_string(post("/v1/jobs", kSlowCrystal, 201)["id"].get<std::int64_t>());
   std::vector<std::string> seen;  // distinct partial curves seen while the job ran
   std::size_t snapshots_while_running = 0;
-  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120); std::chrono::steady_clock::now() < until;) {
+  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+       std::chrono::steady_clock::now() < until;) {
     const std::string status = get(path)["status"];
     if (status == "succeeded" || status == "failed") break;
     auto r = client_->Get((path + "/curve?format=csv").c_str());
@@ -403,8 +413,10 @@ TEST_F(Daemon, LiveCurveGrowsAndACancelledJobKeepsItsRows) {
   EXPECT_EQ(get(path + "/curve")["columns"][0], "strain");
 
   // The same spec again, cancelled once it has some rows: it keeps them.
-  const std::string second = "/v1/jobs/" + std::to_string(post("/v1/jobs", kSlowCrystal, 201)["id"].get<std::int64_t>());
-  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120); std::chrono::steady_clock::now() < until;) {
+  const std::string second =
+      "/v1/jobs/" + std::to_string(post("/v1/jobs", kSlowCrystal, 201)["id"].get<std::int64_t>());
+  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+       std::chrono::steady_clock::now() < until;) {
     auto r = client_->Get((second + "/curve?format=csv").c_str());
     if (r && r->status == 200 && rows_of(r->body) >= 10) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -490,9 +502,9 @@ namespace {
 // engine_version as cmake/engine_version.cmake computes it for a source tree (copies of engine/ and api/).
 std::string version_of(const fs::path& tree, const fs::path& work) {
   const fs::path out = work / "engine_version.cpp";
-  const auto [code, log] = shell(std::string(GRANULAB_CMAKE) + " -DSOURCE_DIR=" + tree.string() + " -DOUTPUT=" +
-                                 out.string() + " -DVERSION=" + GRANULAB_VERSION + " -P " + GRANULAB_SOURCE_DIR +
-                                 "/cmake/engine_version.cmake");
+  const auto [code, log] =
+      shell(std::string(GRANULAB_CMAKE) + " -DSOURCE_DIR=" + tree.string() + " -DOUTPUT=" + out.string() +
+            " -DVERSION=" + GRANULAB_VERSION + " -P " + GRANULAB_SOURCE_DIR + "/cmake/engine_version.cmake");
   EXPECT_EQ(code, 0) << log;
   std::ifstream in(out);
   std::stringstream text;
@@ -508,7 +520,8 @@ std::string version_of(const fs::path& tree, const fs::path& work) {
 TEST_F(Daemon, BuildsOfDifferentEngineSourcesDoNotShareResults) {
   const fs::path tree = dir_ / "tree";
   fs::create_directories(tree);
-  for (const char* part : {"engine", "api"}) fs::copy(fs::path(GRANULAB_SOURCE_DIR) / part, tree / part, fs::copy_options::recursive);
+  for (const char* part : {"engine", "api"})
+    fs::copy(fs::path(GRANULAB_SOURCE_DIR) / part, tree / part, fs::copy_options::recursive);
   const std::string ours = version_of(tree, dir_);
   EXPECT_EQ(ours, api::engine_version()) << "the build did not use cmake/engine_version.cmake on these sources";
   std::ofstream(tree / "engine" / "contact" / "contact_law.h", std::ios::app) << "// a change to the physics\n";
@@ -527,7 +540,8 @@ TEST_F(Daemon, BuildsOfDifferentEngineSourcesDoNotShareResults) {
   stored_result(theirs);
   const json fresh = post("/v1/jobs?reuse=true", kTwoCube, 201);  // the other build's result is not served
   EXPECT_EQ(fresh["status"], "queued");
-  ASSERT_EQ(post("/v1/jobs/" + std::to_string(fresh["id"].get<std::int64_t>()) + "/cancel", "", 200)["status"], "cancelled");
+  ASSERT_EQ(post("/v1/jobs/" + std::to_string(fresh["id"].get<std::int64_t>()) + "/cancel", "", 200)["status"],
+            "cancelled");
   const std::int64_t mine = stored_result(ours);
   const json reused = post("/v1/jobs?reuse=true", kTwoCube, 200);
   EXPECT_EQ(reused["id"], mine);
@@ -564,7 +578,8 @@ TEST_F(Daemon, HostileInputGetsAnAnswerNotACrash) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.method + " " + c.path.substr(0, 60));
-    auto r = c.method == "GET" ? client_->Get(c.path.c_str()) : client_->Post(c.path.c_str(), c.body, "application/json");
+    auto r =
+        c.method == "GET" ? client_->Get(c.path.c_str()) : client_->Post(c.path.c_str(), c.body, "application/json");
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, c.status) << r->body.substr(0, 300);
     const json e = json::parse(r->body);  // valid JSON, whatever the request held

@@ -31,12 +31,14 @@ class FakeSlurmrestd : public ::testing::Test {
     server_.Get(R"(/slurm/v0\.0\.38/ping)", [this](const httplib::Request& req, httplib::Response& res) {
       last_user_ = req.get_header_value("X-SLURM-USER-NAME");
       last_token_ = req.get_header_value("X-SLURM-USER-TOKEN");
-      res.set_content(json{{"meta", meta(dialect_)}, {"errors", json::array()}, {"pings", json::array()}}.dump(), "application/json");
+      res.set_content(json{{"meta", meta(dialect_)}, {"errors", json::array()}, {"pings", json::array()}}.dump(),
+                      "application/json");
     });
     server_.Post(R"(/slurm/v0\.0\.38/job/submit)", [this](const httplib::Request&, httplib::Response& res) {
       // A 200 that carries Slurm's refusal of the job, or a 500 while slurmctld is away.
       if (controller_away_) res.status = 500;
-      const std::string why = controller_away_ ? "Unable to contact slurm controller (connect failure)" : "Invalid partition name specified";
+      const std::string why = controller_away_ ? "Unable to contact slurm controller (connect failure)"
+                                               : "Invalid partition name specified";
       res.set_content(json{{"meta", meta("v0.0.38")}, {"errors", {{{"error", why}, {"error_number", 2000}}}}}.dump(),
                       "application/json");
     });
@@ -50,10 +52,29 @@ class FakeSlurmrestd : public ::testing::Test {
         return;
       }
       // Array 7: task 0 ran (job 7), task 1 runs (job 9), tasks 2-4 and 6 still pending together.
-      json jobs = {{{"job_id", 7}, {"array_job_id", 7}, {"array_task_id", 0}, {"array_task_string", ""}, {"job_state", "COMPLETED"}, {"state_reason", "None"}, {"exit_code", 0}},
-                   {{"job_id", 9}, {"array_job_id", 7}, {"array_task_id", 1}, {"array_task_string", ""}, {"job_state", "RUNNING"}, {"state_reason", "None"}, {"exit_code", 0}},
-                   {{"job_id", 7}, {"array_job_id", 7}, {"array_task_id", nullptr}, {"array_task_string", "2-4,6"}, {"job_state", "PENDING"}, {"state_reason", "Resources"}, {"exit_code", 0}}};
-      res.set_content(json{{"meta", meta("v0.0.38")}, {"errors", json::array()}, {"jobs", jobs}}.dump(), "application/json");
+      json jobs = {{{"job_id", 7},
+                    {"array_job_id", 7},
+                    {"array_task_id", 0},
+                    {"array_task_string", ""},
+                    {"job_state", "COMPLETED"},
+                    {"state_reason", "None"},
+                    {"exit_code", 0}},
+                   {{"job_id", 9},
+                    {"array_job_id", 7},
+                    {"array_task_id", 1},
+                    {"array_task_string", ""},
+                    {"job_state", "RUNNING"},
+                    {"state_reason", "None"},
+                    {"exit_code", 0}},
+                   {{"job_id", 7},
+                    {"array_job_id", 7},
+                    {"array_task_id", nullptr},
+                    {"array_task_string", "2-4,6"},
+                    {"job_state", "PENDING"},
+                    {"state_reason", "Resources"},
+                    {"exit_code", 0}}};
+      res.set_content(json{{"meta", meta("v0.0.38")}, {"errors", json::array()}, {"jobs", jobs}}.dump(),
+                      "application/json");
     });
     port_ = server_.bind_to_any_port("127.0.0.1");
     serving_ = std::thread([this] { server_.listen_after_bind(); });
@@ -147,7 +168,8 @@ TEST(SlurmTokens, TheSignatureIsHmacSha256OfHeaderAndClaims) {
   const auto first = token.find('.'), second = token.find('.', first + 1);
   ASSERT_NE(second, std::string::npos);
   EXPECT_EQ(token.substr(0, first), base64url(R"({"alg":"HS256","typ":"JWT"})"));
-  EXPECT_EQ(token.substr(first + 1, second - first - 1), base64url(R"({"exp":1700000600,"iat":1700000000,"sun":"alice"})"));
+  EXPECT_EQ(token.substr(first + 1, second - first - 1),
+            base64url(R"({"exp":1700000600,"iat":1700000000,"sun":"alice"})"));
   EXPECT_EQ(token.substr(second + 1), "n9OYQy-EVNydL5351P_I0HY3ECIZ5PIrKB8YZqTTWw8");
 }
 

@@ -28,8 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 using CancelResult = JobStore::CancelResult;
 
-std::int64_t submit_job(JobStore& store, const std::string& label, int priority = 0,
-                        const std::string& spec_hash = "", const std::string& engine_version = "0.1.0") {
+std::int64_t submit_job(JobStore& store, const std::string& label, int priority = 0, const std::string& spec_hash = "",
+                        const std::string& engine_version = "0.1.0") {
   return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", label, spec_hash, engine_version,
                       "tester", priority);
 }
@@ -39,8 +39,8 @@ class StoreFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("granulab_store_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    dir_ =
+        fs::temp_directory_path() / ("granulab_store_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     path_ = (dir_ / "jobs.db").string();
@@ -72,8 +72,7 @@ TEST(SqliteWrapper, TransactionRollsBackUnlessCommitted) {
     sqlite::Transaction tx(db);
     sqlite::Statement(db, "INSERT INTO t VALUES (1)").run();
     throw std::runtime_error("midway");
-  } catch (const std::runtime_error&) {
-  }
+  } catch (const std::runtime_error&) {}
   {
     sqlite::Transaction tx(db);
     sqlite::Statement(db, "INSERT INTO t VALUES (2)").run();
@@ -185,7 +184,8 @@ TEST(JobStore, ClaimSkipsCancelledJobs) {
 TEST(JobStore, ClaimRespectsTheRunningQuotaPerOwner) {
   JobStore store(":memory:");
   const auto submit = [&](const std::string& owner, int priority) {
-    return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", owner, "", "0.1.0", owner, priority);
+    return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", owner, "", "0.1.0", owner,
+                        priority);
   };
   const auto a1 = submit("alice", 9), a2 = submit("alice", 9), b1 = submit("bob", 0);
   EXPECT_EQ(store.claim_next(1)->id, a1);
@@ -388,7 +388,8 @@ TEST(JobStore, CurvesRoundTrip) {
   store.claim_next();
   EXPECT_FALSE(store.curve_csv(id));
   EXPECT_FALSE(store.curve_json(id));
-  const std::string csv = "strain,stress_top,stress_bottom,deviator\n0,60000,60000,0\n0.001,61234.5,61200.25,1217.375\n";
+  const std::string csv =
+      "strain,stress_top,stress_bottom,deviator\n0,60000,60000,0\n0.001,61234.5,61200.25,1217.375\n";
   const std::string json = R"({"columns":["strain"],"rows":[[0],[1e-3]],"note":"ünïcode ✓"})";
   ASSERT_TRUE(store.succeed(id, "{}", csv, json));
   EXPECT_EQ(store.curve_csv(id), csv);
@@ -398,7 +399,7 @@ TEST(JobStore, CurvesRoundTrip) {
 
 TEST_F(StoreFileTest, SnapshotBlobsRoundTripByteExact) {
   std::vector<std::uint8_t> every_byte(256);
-  std::iota(every_byte.begin(), every_byte.end(), 0);  // 0x00 .. 0xff
+  std::iota(every_byte.begin(), every_byte.end(), 0);    // 0x00 .. 0xff
   std::vector<std::uint8_t> large(3 * 1024 * 1024 + 7);  // spans many overflow pages
   for (std::size_t i = 0; i < large.size(); ++i) large[i] = static_cast<std::uint8_t>((i * 2654435761u) >> 13);
   large.front() = 0x00;
@@ -564,7 +565,7 @@ TEST_F(StoreFileTest, RequeueRunningAfterRestart) {
   EXPECT_EQ(store.get(waiting)->status, JobStatus::queued);
 
   EXPECT_EQ(store.requeue_running(), 0u);
-  ASSERT_EQ(store.claim_next()->id, interrupted);  // keeps its place: older than "waiting"
+  ASSERT_EQ(store.claim_next()->id, interrupted);   // keeps its place: older than "waiting"
   store.add_snapshot(interrupted, 0, 0.0, {0x01});  // the rerun writes its own snapshots
   EXPECT_EQ(store.snapshot(interrupted, 0), (std::vector<std::uint8_t>{0x01}));
 }
@@ -653,7 +654,8 @@ namespace {
 // Jobs on a Slurm cluster (job_store_cluster.cpp): the transitions the executor and the workers rely on.
 TEST(JobStoreCluster, ASlurmJobIsGivenOnceAndOnlyItsOwnStateLands) {
   JobStore store(":memory:");
-  const auto id = store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
+  const auto id =
+      store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
   ASSERT_EQ(store.unsubmitted(10).size(), 1u);
   EXPECT_EQ(store.worker_token(id, "first"), "first");
   EXPECT_EQ(store.worker_token(id, "second"), "first");  // a secret never changes once set
@@ -690,7 +692,8 @@ TEST(JobStoreCluster, ARequeueHonoursACancelAndTheLimitOfSlurmJobs) {
   const auto endless = submit();
   for (int k = 0; k < 3; ++k) {
     ASSERT_TRUE(store.set_slurm_job(endless, std::to_string(100 + k)));
-    ASSERT_EQ(store.requeue_for_cluster(endless, "time limit", 3), k < 2 ? JobStore::Requeue::requeued : JobStore::Requeue::failed);
+    ASSERT_EQ(store.requeue_for_cluster(endless, "time limit", 3),
+              k < 2 ? JobStore::Requeue::requeued : JobStore::Requeue::failed);
   }
   const auto failed = store.get(endless);
   EXPECT_EQ(failed->status, JobStatus::failed);
@@ -701,7 +704,8 @@ TEST(JobStoreCluster, ARequeueHonoursACancelAndTheLimitOfSlurmJobs) {
 
 TEST(JobStoreCluster, ALocalStartTakesClusterJobsBackAndRevokesTheirWorkers) {
   JobStore store(":memory:");
-  const auto id = store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
+  const auto id =
+      store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", "", "", "0.1.0", "tester", 0);
   store.worker_token(id, "secret");
   ASSERT_TRUE(store.set_slurm_job(id, "5"));
   ASSERT_TRUE(store.mark_running(id, "5"));

@@ -49,8 +49,10 @@ class Users : public Daemon {
   // The status of one request as `who` (alice owns the jobs).
   int as(Caller who, const std::string& method, const std::string& path, const std::string& body = "") {
     httplib::Headers headers;
-    const std::map<Caller, std::string> token = {
-        {Caller::wrong, "tok-mallory"}, {Caller::other, "tok-bob"}, {Caller::owner, "tok-alice"}, {Caller::admin, "tok-root"}};
+    const std::map<Caller, std::string> token = {{Caller::wrong, "tok-mallory"},
+                                                 {Caller::other, "tok-bob"},
+                                                 {Caller::owner, "tok-alice"},
+                                                 {Caller::admin, "tok-root"}};
     if (who != Caller::none) headers.emplace("Authorization", "Bearer " + token.at(who));
     httplib::Result r = method == "GET"      ? client_->Get(path.c_str(), headers)
                         : method == "DELETE" ? client_->Delete(path.c_str(), headers)
@@ -101,7 +103,8 @@ TEST_F(Users, AccessMatrixLabWide) {
       EXPECT_EQ(as(who, "GET", read), known ? 200 : 401) << read;
     EXPECT_EQ(as(who, "GET", job + "/snapshots/0"), known ? 404 : 401);  // a two-cube job has none
     EXPECT_EQ(as(who, "GET", job + "/snapshots/0.svg"), known ? 404 : 401);
-    for (const char* page : {"/", "/web/app.js", "/web/style.css"}) EXPECT_EQ(as(who, "GET", page), 200) << page;  // it asks
+    for (const char* page : {"/", "/web/app.js", "/web/style.css"})
+      EXPECT_EQ(as(who, "GET", page), 200) << page;  // it asks
     // Changes: each on a fresh queued job of alice's.
     const std::string queued = "/v1/jobs/" + std::to_string(submit_as_alice());
     EXPECT_EQ(as(who, "POST", queued + "/priority?value=5"), !known ? 401 : may_change ? 200 : 403);
@@ -177,11 +180,12 @@ TEST_F(Users, BudgetIsCheckedBeforeAJobIsAccepted) {
   EXPECT_EQ(refused["error"]["code"], "over_budget");
   std::string message = refused["error"]["message"];
   EXPECT_NE(message.find("max_memory"), std::string::npos) << message;
-  EXPECT_NE(message.find("0.10 GB"), std::string::npos) << message;  // the limit
+  EXPECT_NE(message.find("0.10 GB"), std::string::npos) << message;        // the limit
   EXPECT_NE(message.find("2e+06 spheres"), std::string::npos) << message;  // the estimate's basis
   // Small, but 4e8 steps of 52 spheres (rate_number 1e-8) = 2e10 sphere-steps > 1e9.
   refused = post("/v1/jobs", R"({"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
-    "loading": {"rate_number": 1e-8}})", 400);
+    "loading": {"rate_number": 1e-8}})",
+                 400);
   message = refused["error"]["message"];
   EXPECT_NE(message.find("max_sphere_steps"), std::string::npos) << message;
   post("/v1/jobs", kSpec, 201);
@@ -204,7 +208,8 @@ TEST_F(Users, TokenFileRules) {
   read_token_file(write(p, "alice a1\n", 0644).string(), &warning);
   EXPECT_NE(warning.find("readable by other users"), std::string::npos);
   // One token per user, one user per token, known roles only: start-up errors naming the line.
-  for (const char* bad : {"alice same\nbob same\n", "alice a1\nalice a2\n", "alice a1 owner\n", "alice\n", "# only\n"}) {
+  for (const char* bad :
+       {"alice same\nbob same\n", "alice a1\nalice a2\n", "alice a1 owner\n", "alice\n", "# only\n"}) {
     try {
       read_token_file(write(p, bad, 0600).string());
       ADD_FAILURE() << "accepted: " << bad;

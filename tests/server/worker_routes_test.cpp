@@ -61,8 +61,8 @@ std::string read(const fs::path& p) {
 class WorkerRoutes : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("granulab_worker_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("granulab_worker_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
     store_ = std::make_unique<JobStore>((dir_ / "jobs.db").string());
     HttpOptions options;
@@ -75,7 +75,8 @@ class WorkerRoutes : public ::testing::Test {
     serving_ = std::thread([this] { http_->serve(); });
     client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
     client_->set_bearer_token_auth("user-token");
-    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int k = 0; k < 100 && !client_->Get("/v1/health"); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   void TearDown() override {
     http_->stop();
@@ -97,8 +98,9 @@ class WorkerRoutes : public ::testing::Test {
 
   // `granulab worker` for job `id` with `secret`, started (not waited for); its pid.
   pid_t start_worker(std::int64_t id, const std::string& secret) {
-    const std::string cli = std::string(GRANULAB_BINARY_DIR) + "/granulab", server = "http://127.0.0.1:" + std::to_string(port_),
-                      job = std::to_string(id), token = "GRANULAB_WORKER_TOKEN=" + secret;
+    const std::string cli = std::string(GRANULAB_BINARY_DIR) + "/granulab",
+                      server = "http://127.0.0.1:" + std::to_string(port_), job = std::to_string(id),
+                      token = "GRANULAB_WORKER_TOKEN=" + secret;
     std::vector<std::string> env;
     for (char** e = environ; *e; ++e)
       if (std::string(*e).rfind("SLURM_", 0) != 0) env.push_back(*e);  // not part of a Slurm job here
@@ -106,7 +108,8 @@ class WorkerRoutes : public ::testing::Test {
     std::vector<char*> envp;
     for (std::string& e : env) envp.push_back(e.data());
     envp.push_back(nullptr);
-    const char* argv[] = {cli.c_str(), "worker", "--server", server.c_str(), "--job", job.c_str(), "--patience", "5", nullptr};
+    const char* argv[] = {cli.c_str(), "worker",     "--server", server.c_str(), "--job",
+                          job.c_str(), "--patience", "5",        nullptr};
     pid_t pid = 0;
     EXPECT_EQ(::posix_spawn(&pid, cli.c_str(), nullptr, nullptr, const_cast<char**>(argv), envp.data()), 0);
     return pid;
@@ -118,12 +121,14 @@ class WorkerRoutes : public ::testing::Test {
   }
   std::string local_curve(const char* spec = kSpec) {
     std::ofstream(dir_ / "spec.json") << spec;
-    const std::string cmd = std::string(GRANULAB_BINARY_DIR) + "/granulab run " + (dir_ / "spec.json").string() + " --out " +
-                            (dir_ / "local").string() + " --threads 1 --quiet > /dev/null 2>&1";
+    const std::string cmd = std::string(GRANULAB_BINARY_DIR) + "/granulab run " + (dir_ / "spec.json").string() +
+                            " --out " + (dir_ / "local").string() + " --threads 1 --quiet > /dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     return read(dir_ / "local" / "curve.csv");
   }
-  std::string curve_csv(std::int64_t id) { return client_->Get("/v1/jobs/" + std::to_string(id) + "/curve?format=csv")->body; }
+  std::string curve_csv(std::int64_t id) {
+    return client_->Get("/v1/jobs/" + std::to_string(id) + "/curve?format=csv")->body;
+  }
 
   fs::path dir_;
   NoExecutor executor_;
@@ -162,7 +167,8 @@ TEST_F(WorkerRoutes, ACrystalsSnapshotsComeBackAsALocalRunWritesThem) {
   for (int k = 0; k < 2; ++k) {
     const auto served = client_->Get("/v1/jobs/" + std::to_string(id) + "/snapshots/" + std::to_string(k));
     ASSERT_TRUE(served && served->status == 200);
-    EXPECT_EQ(json::parse(served->body), json::parse(read(dir_ / "local" / "snapshots" / ("snapshot_" + std::to_string(k) + ".json"))))
+    EXPECT_EQ(json::parse(served->body),
+              json::parse(read(dir_ / "local" / "snapshots" / ("snapshot_" + std::to_string(k) + ".json"))))
         << "snapshot " << k;
   }
 }
@@ -174,10 +180,11 @@ TEST_F(WorkerRoutes, ASecretOpensOnlyItsOwnJobsWorkerRoutes) {
     auto r = raw.Get("/v1/worker/jobs/" + std::to_string(id), headers);
     return r ? r->status : -1;
   };
-  EXPECT_EQ(start(a, {}), 403);                                                      // no secret
-  EXPECT_EQ(start(a, {{"Authorization", "Bearer user-token"}}), 403);                // a user's token is not one
+  EXPECT_EQ(start(a, {}), 403);                                                        // no secret
+  EXPECT_EQ(start(a, {{"Authorization", "Bearer user-token"}}), 403);                  // a user's token is not one
   EXPECT_EQ(start(a, {{"X-Worker-Token", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"}}), 403);  // another job's
-  EXPECT_EQ(start(a, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}, {"X-Slurm-Job-Id", "77"}}), 409);  // stale
+  EXPECT_EQ(start(a, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}, {"X-Slurm-Job-Id", "77"}}),
+            409);  // stale
   EXPECT_EQ(start(a, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}}), 200);
   EXPECT_EQ(job(a)["status"], "running");
   EXPECT_EQ(job(b)["status"], "queued");
@@ -189,10 +196,12 @@ TEST_F(WorkerRoutes, ASecretOpensOnlyItsOwnJobsWorkerRoutes) {
   // (and this one refused for what it is: not a checkpoint).
   const std::string big(200 * 1024, 'x');
   const std::string path = "/v1/worker/jobs/" + std::to_string(a) + "/checkpoint?rows=0&snapshots=0";
-  auto anonymous = raw.Post(path, {{"X-Worker-Token", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"}}, big, "application/octet-stream");
+  auto anonymous =
+      raw.Post(path, {{"X-Worker-Token", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"}}, big, "application/octet-stream");
   ASSERT_TRUE(anonymous);
   EXPECT_EQ(anonymous->status, 413);
-  auto trusted = raw.Post(path, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}}, big, "application/octet-stream");
+  auto trusted =
+      raw.Post(path, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}}, big, "application/octet-stream");
   ASSERT_TRUE(trusted);
   EXPECT_EQ(trusted->status, 400) << trusted->body;
   EXPECT_NE(trusted->body.find("unreadable checkpoint"), std::string::npos) << trusted->body;

@@ -65,13 +65,11 @@ struct CrystalCompression::ProgressShare {
     share = confinement_steps / (confinement_steps + compression_steps);
   }
   /// confine() reports 1 - exp(-steps / time constant): back to time constants, linear in steps.
-  double confining(double f) const {
-    return share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / kTimeConstants);
-  }
+  double confining(double f) const { return share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / kTimeConstants); }
   /// Monotonic: the strain reached of max_strain; a program: its steps of the expected ones.
   double loading(bool monotonic, double strain, double max_strain, std::uint64_t steps) const {
-    const double fraction = monotonic ? std::min(1.0, std::max(0.0, strain) / max_strain)
-                                      : std::min(0.99, steps / compression_steps);
+    const double fraction =
+        monotonic ? std::min(1.0, std::max(0.0, strain) / max_strain) : std::min(0.99, steps / compression_steps);
     return share + (1 - share) * fraction;
   }
   double share = 0, compression_steps = 0;
@@ -109,7 +107,8 @@ void CrystalCompression::take_due_snapshots(Run& run) {
 }
 
 void CrystalCompression::safe_point(Run& run) const {
-  if (run.sink.checkpoint_due()) run.sink.checkpoint(checkpoint(run.at, run.r), run.r.curve.size(), run.r.snapshots.size());
+  if (run.sink.checkpoint_due())
+    run.sink.checkpoint(checkpoint(run.at, run.r), run.r.curve.size(), run.r.snapshots.size());
 }
 
 void CrystalCompression::confine_and_begin(Run& run) {
@@ -168,8 +167,8 @@ void CrystalCompression::drive_platen(const Run& run, const LoadSegment& segment
                                ? std::abs(segment.value - strain_now()) * ref_length_ / run.speed
                                : run.ramp_time;  // where a release to a deviator ends is not known
   const bool slow_down = !last && segment.kind == LoadSegment::Kind::to_strain;
-  top.velocity =
-      top.normal * (direction * run.speed * (direction ? platen_speed_fraction(t, run.ramp_time, remaining, slow_down) : 0.0));
+  top.velocity = top.normal * (direction * run.speed *
+                               (direction ? platen_speed_fraction(t, run.ramp_time, remaining, slow_down) : 0.0));
 }
 
 void CrystalCompression::record_due_rows(Run& run, const LoadSegment& segment) {
@@ -238,7 +237,8 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resum
   const auto& walls = world.walls();
   const double gap = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();
   const double length = ref_length_ > 0 ? ref_length_ : gap;  // before confinement: about it
-  const double wave_speed = std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double wave_speed =
+      std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
   Run run{sink, r, at, Schedule(params_), ProgressShare(params_, sample_, length)};
   run.speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   if (!at.compressing) confine_and_begin(run);

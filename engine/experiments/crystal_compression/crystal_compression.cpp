@@ -38,10 +38,9 @@ const std::vector<CurveColumn>& CrystalRow::columns() {
 }
 
 std::vector<double> CrystalRow::values() const {
-  return {strain,           stress_top,           stress_bottom,
-          deviator,         lateral_strain_x,     lateral_strain_y,
-          lateral_stress,   kinetic_elastic_ratio, double(contacts),
-          double(sliding_contacts), double(segment)};
+  return {strain,           stress_top,     stress_bottom,         deviator,         lateral_strain_x,
+          lateral_strain_y, lateral_stress, kinetic_elastic_ratio, double(contacts), double(sliding_contacts),
+          double(segment)};
 }
 
 std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
@@ -124,7 +123,8 @@ void CrystalCompression::take_reference() {
   ref_orientation_ = b.orientation;
   interfaces_ = neighbour_pairs(ref_position_, 1.1 * params_.grain.size / std::sqrt(2.0));
   ref_width_ = mean_coordinate(sample_.side(1), ref_position_, 0) - mean_coordinate(sample_.side(0), ref_position_, 0);
-  ref_thickness_ = mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);
+  ref_thickness_ =
+      mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);
   const auto& walls = sample_.world().walls();
   ref_length_ = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();
 }

@@ -20,26 +20,26 @@
 namespace granulab {
 
 struct CrystalParams : CrystalSampleParams {
-  double max_strain = 0.1;           ///< compression stops here (-)
-  double rate_number = 0;            ///< R (-); 0: quasi_static_rate_number(p0, E)
-  int curve_points = 400;            ///< curve rows after the start (-)
+  double max_strain = 0.1;                                            ///< compression stops here (-)
+  double rate_number = 0;                                             ///< R (-); 0: quasi_static_rate_number(p0, E)
+  int curve_points = 400;                                             ///< curve rows after the start (-)
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
-  std::vector<LoadSegment> program;  ///< empty: one compression to max_strain
+  std::vector<LoadSegment> program;                                   ///< empty: one compression to max_strain
   /// After confinement by the bag, keep the bag, or fix each surface grain's force (CrystalSample).
   bool fixed_forces = false;
 };
 
 struct CrystalRow {
-  double strain;                      ///< wall approach / initial length (-)
-  double stress_top, stress_bottom;   ///< wall force / initial cross-section, compressive positive (Pa)
-  double deviator;                    ///< mean of the two - p0 (Pa)
-  double lateral_strain_x;            ///< change of width / width (extension positive) (-)
-  double lateral_strain_y;            ///< change of thickness / thickness (extension positive) (-)
-  double lateral_stress;              ///< mean of the two lateral_stresses() (Pa)
-  double kinetic_elastic_ratio;       ///< kinetic / elastic energy (-)
-  std::size_t contacts;               ///< sphere pairs in contact (-)
-  std::size_t sliding_contacts;       ///< of which at the Coulomb limit (-)
-  std::size_t segment = 0;            ///< loading program segment (-)
+  double strain;                     ///< wall approach / initial length (-)
+  double stress_top, stress_bottom;  ///< wall force / initial cross-section, compressive positive (Pa)
+  double deviator;                   ///< mean of the two - p0 (Pa)
+  double lateral_strain_x;           ///< change of width / width (extension positive) (-)
+  double lateral_strain_y;           ///< change of thickness / thickness (extension positive) (-)
+  double lateral_stress;             ///< mean of the two lateral_stresses() (Pa)
+  double kinetic_elastic_ratio;      ///< kinetic / elastic energy (-)
+  std::size_t contacts;              ///< sphere pairs in contact (-)
+  std::size_t sliding_contacts;      ///< of which at the Coulomb limit (-)
+  std::size_t segment = 0;           ///< loading program segment (-)
 
   /// The curve's columns (docs/api.md), in the order of values().
   static const std::vector<CurveColumn>& columns();
@@ -51,14 +51,14 @@ struct CrystalResult {
   std::vector<GrainSnapshot> snapshots;
   std::vector<SegmentRecord> segments;  ///< one per program segment run (one without a program)
   ConfinementReport confinement;
-  FixedForces fixed;                   ///< the fixed confining forces, when loading.confinement asked for them
-  RunStats run;                        ///< steps (confinement included), timings, model numbers
-  double prestrain = 0;                ///< eps0 = sqrt2 p0 / E (-)
-  double strain_rate = 0;              ///< platen speed / initial length (1/s)
-  double initial_length = 0;           ///< platen gap at the end of confinement (m)
-  double cross_section = 0;            ///< lattice cross-section normal to z (m^2)
-  std::size_t knocked_out = 0;         ///< grains removed (-)
-  std::uint64_t compression_steps = 0; ///< time steps of the compression phase (-)
+  FixedForces fixed;                    ///< the fixed confining forces, when loading.confinement asked for them
+  RunStats run;                         ///< steps (confinement included), timings, model numbers
+  double prestrain = 0;                 ///< eps0 = sqrt2 p0 / E (-)
+  double strain_rate = 0;               ///< platen speed / initial length (1/s)
+  double initial_length = 0;            ///< platen gap at the end of confinement (m)
+  double cross_section = 0;             ///< lattice cross-section normal to z (m^2)
+  std::size_t knocked_out = 0;          ///< grains removed (-)
+  std::uint64_t compression_steps = 0;  ///< time steps of the compression phase (-)
 };
 
 /// The default rate number R = p0 / E (-), within [1e-8, 0.1]: a constant rate whose curve stays within
@@ -103,9 +103,9 @@ class CrystalCompression {
  private:
   /// Where the run stands between two steps, beyond the sample: what a checkpoint holds.
   struct Position {
-    bool compressing = false;          ///< false: still confining
+    bool compressing = false;  ///< false: still confining
     ConfinementState confinement;
-    std::uint64_t first = 0;           ///< world step at which the compression began
+    std::uint64_t first = 0;  ///< world step at which the compression began
     std::size_t next_row = 0, next_snapshot = 0;
     // The loading program: the segment running, since when, from which strain, and the platen's
     // travel (the strain it moved over in all, either way) at the segment's start and at the last row.
@@ -113,8 +113,8 @@ class CrystalCompression {
     bool segment_begun = false;
     std::uint64_t segment_first = 0;
     double segment_strain = 0, segment_travel = 0, row_travel = 0;
-    std::uint64_t row_step = 0;          ///< world step of the last row
-    std::uint64_t segment_rows = 0;      ///< rows the deviator rule added in this segment
+    std::uint64_t row_step = 0;      ///< world step of the last row
+    std::uint64_t segment_rows = 0;  ///< rows the deviator rule added in this segment
   };
   struct Schedule;       // where rows and snapshots fall (compression_run.cpp)
   struct ProgressShare;  // the progress bar shared between confinement and loading

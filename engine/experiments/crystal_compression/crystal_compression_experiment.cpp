@@ -171,11 +171,13 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
            "fixed in size and direction; the platens then carry the deviator alone (the stress columns count the "
            "ends back in)");
   p.fixed_forces = confinement == "fixed_forces";
-  v.require(!p.fixed_forces || p.rows_z >= 2, "loading.confinement",
-            "'loading.confinement' fixed_forces needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
+  v.require(
+      !p.fixed_forces || p.rows_z >= 2, "loading.confinement",
+      "'loading.confinement' fixed_forces needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
   visit_program(v, p);
   v.section("output");
-  v.integer("curve_points", p.curve_points, 1, 100000, "curve rows (a quarter of them over the first 2.5 % of the run)");
+  v.integer("curve_points", p.curve_points, 1, 100000,
+            "curve rows (a quarter of them over the first 2.5 % of the run)");
   // By default, the paper's snapshot strains that the run reaches; explicit ones must be reachable.
   std::vector<double> reachable;
   for (double e : p.snapshot_strains)

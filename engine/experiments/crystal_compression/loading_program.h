@@ -12,17 +12,17 @@ namespace granulab {
 struct LoadSegment {
   enum class Kind : std::uint32_t { to_strain, to_deviator, hold };
   Kind kind = Kind::to_strain;
-  double value = 0;          ///< to_strain: axial strain (-); to_deviator: deviator (Pa); hold: unused
-  std::uint64_t steps = 0;   ///< hold: time steps (-)
+  double value = 0;         ///< to_strain: axial strain (-); to_deviator: deviator (Pa); hold: unused
+  std::uint64_t steps = 0;  ///< hold: time steps (-)
 };
 
 /// What a segment did, as run: the rows it spans and how the platen moved.
 struct SegmentRecord {
   LoadSegment::Kind kind = LoadSegment::Kind::to_strain;
-  int direction = 0;               ///< +1 compressing, -1 releasing, 0 held still
-  std::uint64_t first_row = 0;     ///< the row it started from (the previous segment's last row)
-  std::uint64_t last_row = 0;      ///< its last row (recorded when it ended)
-  std::uint64_t steps = 0;         ///< time steps it took (-)
+  int direction = 0;            ///< +1 compressing, -1 releasing, 0 held still
+  std::uint64_t first_row = 0;  ///< the row it started from (the previous segment's last row)
+  std::uint64_t last_row = 0;   ///< its last row (recorded when it ended)
+  std::uint64_t steps = 0;      ///< time steps it took (-)
 };
 
 const char* segment_kind_name(LoadSegment::Kind kind);

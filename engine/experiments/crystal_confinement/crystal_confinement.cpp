@@ -49,7 +49,9 @@ Headline CrystalConfinementExperiment::headline() const {
   return {"step",
           {"time step", {1, "-"}, {1, "-"}},
           {"stress", per_p0, {1e-3, "kPa"}},
-          {{"top platen", "stress_top"}, {"bottom platen", "stress_bottom"}, {"lateral x", "lateral_stress_x"},
+          {{"top platen", "stress_top"},
+           {"bottom platen", "stress_bottom"},
+           {"lateral x", "lateral_stress_x"},
            {"lateral y", "lateral_stress_y"}},
           {{"prestrain", "pre-strain", "-"}},
           {},
@@ -67,8 +69,12 @@ std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& 
   std::uint64_t rows = 0;
   auto record = [&](std::uint64_t steps) {
     const auto [sx, sy] = sample.lateral_stresses();
-    const ConfinementRow row{double(steps), sample.wall_stress(sample.top_wall()), sample.wall_stress(sample.bottom_wall()),
-                             sx, sy, sample.kinetic_elastic_ratio()};
+    const ConfinementRow row{double(steps),
+                             sample.wall_stress(sample.top_wall()),
+                             sample.wall_stress(sample.bottom_wall()),
+                             sx,
+                             sy,
+                             sample.kinetic_elastic_ratio()};
     sink.curve_row(row.values());
     ++rows;
   };
@@ -93,7 +99,8 @@ std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& 
     saved(w);
     sink.checkpoint(w.finish(), rows, 0);
   };
-  out->report = confine(sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);
+  out->report = confine(
+      sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);
   sink.progress(1.0);
   out->prestrain = hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus);
   out->run = sample.world().run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -38,12 +38,12 @@ struct TwoCubeRow {
 
 struct TwoCubeResult {
   std::vector<TwoCubeRow> curve;
-  RunStats run;                    ///< steps, timings and model numbers (d, k_n, N_f)
-  double spacing = 0;              ///< sphere spacing s = d(1 - kappa) (m)
-  double p0 = 0;                   ///< P0 = E l^2 eps0 (N)
-  double slide_speed = 0;          ///< m/s
-  double critical_prestrain = 0;   ///< (d - sqrt(d^2 - s^2)) / l (-)
-  double contact_end_slide = 0;    ///< theory: u/l where the last sphere pair separates (-)
+  RunStats run;                   ///< steps, timings and model numbers (d, k_n, N_f)
+  double spacing = 0;             ///< sphere spacing s = d(1 - kappa) (m)
+  double p0 = 0;                  ///< P0 = E l^2 eps0 (N)
+  double slide_speed = 0;         ///< m/s
+  double critical_prestrain = 0;  ///< (d - sqrt(d^2 - s^2)) / l (-)
+  double contact_end_slide = 0;   ///< theory: u/l where the last sphere pair separates (-)
 };
 
 class TwoCubeSliding {

@@ -65,7 +65,10 @@ Headline TwoCubeSlidingExperiment::headline() const {
   const double f = params.material.friction, end = params.max_slide;
   const double p0 = params.material.youngs_modulus * params.grain.size * params.grain.size * params.prestrain;
   h.references.push_back({"P, eq. 1", 0, {0, end}, {1, 1 - end}, {p0, p0 * (1 - end)}});
-  h.references.push_back({"T, eq. 1 (f = " + std::to_string(f).substr(0, 5) + ")", 1, {0, end}, {f, f * (1 - end)},
+  h.references.push_back({"T, eq. 1 (f = " + std::to_string(f).substr(0, 5) + ")",
+                          1,
+                          {0, end},
+                          {f, f * (1 - end)},
                           {f * p0, f * p0 * (1 - end)}});
   return h;
 }
@@ -76,7 +79,8 @@ Workload TwoCubeSlidingExperiment::workload() const {
   w.spheres = 2.0 * double(sphere_count(params.grain));
   // The top cube slides max_slide * l at R sqrt(E / rho), in steps of dt (as in TwoCubeSliding::run).
   const GrainTemplate grain(params.grain);
-  const double dt = params.time_step_factor * contact_time_scale(grain, params.material.youngs_modulus, params.material.density);
+  const double dt =
+      params.time_step_factor * contact_time_scale(grain, params.material.youngs_modulus, params.material.density);
   const double wave_speed = std::sqrt(params.material.youngs_modulus / params.material.density);
   w.steps = params.max_slide * params.grain.size / (params.rate_number * wave_speed * dt) + params.curve_points;
   return w;

@@ -69,8 +69,16 @@ Record run(const CrystalParams& p) {
 // energy ratio by 1, counts by the contacts at the start.
 std::vector<double> column_scales(const Record& r, const CrystalParams& p) {
   const double contacts = r.curve.front()[8];
-  return {p.max_strain, p.confining_pressure, p.confining_pressure, p.confining_pressure, p.max_strain,
-          p.max_strain, p.confining_pressure, 1.0, contacts, contacts};
+  return {p.max_strain,
+          p.confining_pressure,
+          p.confining_pressure,
+          p.confining_pressure,
+          p.max_strain,
+          p.max_strain,
+          p.confining_pressure,
+          1.0,
+          contacts,
+          contacts};
 }
 
 /// The largest difference between two records, each quantity over its scale; positions over the grain
@@ -82,8 +90,7 @@ double largest_difference(const Record& a, const Record& b, const CrystalParams&
   // A NaN anywhere is the worst difference (std::max would skip it).
   auto worse = [&worst](double d) { worst = d <= worst ? worst : (d == d ? d : INFINITY); };
   for (std::size_t i = 0; i < a.curve.size(); ++i)
-    for (std::size_t c = 0; c < scale.size(); ++c)
-      worse(std::abs(a.curve[i][c] - b.curve[i][c]) / scale[c]);
+    for (std::size_t c = 0; c < scale.size(); ++c) worse(std::abs(a.curve[i][c] - b.curve[i][c]) / scale[c]);
   for (std::size_t g = 0; g < a.position.size(); ++g) {
     worse((a.position[g] - b.position[g]).norm() / p.grain.size);
     // q and -q are the same rotation.
@@ -96,8 +103,9 @@ double largest_difference(const Record& a, const Record& b, const CrystalParams&
 
 nlohmann::json to_json(const Record& r) {
   nlohmann::json j;
-  j["about"] = "granulab golden data: tests/engine/regression/golden_test.cpp (crystal 3 x 6 x 2, N_e = 4, "
-               "30 kPa, 1 % strain at R = 1e-4); compared to a relative tolerance of 1e-7 of each quantity's scale";
+  j["about"] =
+      "granulab golden data: tests/engine/regression/golden_test.cpp (crystal 3 x 6 x 2, N_e = 4, "
+      "30 kPa, 1 % strain at R = 1e-4); compared to a relative tolerance of 1e-7 of each quantity's scale";
   j["steps"] = r.steps;
   j["curve"] = r.curve;
   j["grains"] = nlohmann::json::array();

@@ -245,8 +245,8 @@ TEST_P(CrystalSizeTest, InteriorGrainsHaveExactlyTwelveNeighboursAtContactDistan
 
 TEST_P(CrystalSizeTest, LayersAreSpacedAlongYRowsAlongZAndGrainsAlongX) {
   // Layer k at y = k a'/sqrt3 + y0, the common offset y0 being that of layer 0.
-  const double y0 = std::find_if(c.sites.begin(), c.sites.end(), [](const LatticeSite& s) { return s.layer == 0; })
-                        ->position.y();
+  const double y0 =
+      std::find_if(c.sites.begin(), c.sites.end(), [](const LatticeSite& s) { return s.layer == 0; })->position.y();
   // Group x by (layer,row) and z likewise.
   std::map<std::pair<int, int>, std::map<int, Vec3>> rows;  // (layer,row) -> column -> position
   for (const LatticeSite& s : c.sites) {
@@ -271,10 +271,10 @@ TEST_P(CrystalSizeTest, LayersAreSpacedAlongYRowsAlongZAndGrainsAlongX) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Crystal, CrystalSizeTest,
-                         testing::Values(kReference,                   // AR 2, 864 grains
-                                         Size{8, 9, 6, kPrestrain},    // AR 1, odd rows_z
-                                         Size{8, 36, 6, kPrestrain},   // AR 4
-                                         Size{5, 7, 4, 0.02}),         // all odd, larger pre-strain
+                         testing::Values(kReference,                  // AR 2, 864 grains
+                                         Size{8, 9, 6, kPrestrain},   // AR 1, odd rows_z
+                                         Size{8, 36, 6, kPrestrain},  // AR 4
+                                         Size{5, 7, 4, 0.02}),        // all odd, larger pre-strain
                          size_name);
 
 TEST(CrystalLattice, AspectRatioVariantsHaveTheExpectedGrainCounts) {
@@ -303,7 +303,7 @@ TEST(CrystalOrientation, MapsTheCrystalDirectionsOntoTheLabAxes) {
 TEST(CrystalOrientation, IsAUnitQuaternionOfAProperRotation) {
   const Quat q = off_axis_orientation();
   const Mat3 r = q.toRotationMatrix();
-  EXPECT_NEAR(q.norm(), 1, 1e-15);  // normalised on return: rounding only
+  EXPECT_NEAR(q.norm(), 1, 1e-15);                                  // normalised on return: rounding only
   EXPECT_LT((r.transpose() * r - Mat3::Identity()).norm(), 1e-14);  // orthonormal to rounding
   EXPECT_NEAR(r.determinant(), 1, 1e-14);                           // proper: no reflection
 }
@@ -334,7 +334,8 @@ class CrystalKnockoutTest : public testing::Test {
     for (const LatticeSite& s : c.sites) {
       EXPECT_EQ(removed.count(value(s.id)), 0u) << "site " << value(s.id) << " should be knocked out";
       ASSERT_EQ(before.count(value(s.id)), 1u);
-      EXPECT_EQ(s.position, before.at(value(s.id))) << "site " << value(s.id) << " moved";  // same arithmetic: bit-identical
+      EXPECT_EQ(s.position, before.at(value(s.id)))
+          << "site " << value(s.id) << " moved";  // same arithmetic: bit-identical
       kept.insert(value(s.id));
     }
     EXPECT_EQ(kept.size(), c.sites.size());
@@ -393,7 +394,7 @@ TEST_P(KnockoutRegionTest, RemovesEveryGrainInsideTheCylinderInEveryLayerAndNone
 }
 
 INSTANTIATE_TEST_SUITE_P(Crystal, KnockoutRegionTest,
-                         testing::Values(RegionCase{{0, 0, 1.2}, 6},     // the paper's centre knock-out
+                         testing::Values(RegionCase{{0, 0, 1.2}, 6},       // the paper's centre knock-out
                                          RegionCase{{1.0, -2.5, 0.8}, 6},  // off centre
                                          RegionCase{{-1.5, 3.0, 1.0}, 6}));
 
@@ -565,8 +566,8 @@ TEST_F(KinematicsTest, SlidingOfTheReferenceStateIsZero) {
 }
 
 struct ShiftCase {
-  int neighbour;     // which of the interior grain's neighbours (index into its sorted pair list)
-  double fraction;   // shift s as a fraction of the contact distance a'/sqrt2
+  int neighbour;    // which of the interior grain's neighbours (index into its sorted pair list)
+  double fraction;  // shift s as a fraction of the contact distance a'/sqrt2
 };
 
 void PrintTo(const ShiftCase& s, std::ostream* os) { *os << "neighbour " << s.neighbour << " s/d=" << s.fraction; }
@@ -679,11 +680,9 @@ class MembraneTest : public testing::TestWithParam<MembraneCase> {
   const double cell = mc.cell_over_r * cloud.r;
   Membrane membrane{kPressure, cell};
   std::vector<Vec3> force = std::vector<Vec3>(cloud.bodies.size(), Vec3::Constant(7)),  // stale values
-      torque = std::vector<Vec3>(cloud.bodies.size(), Vec3::Constant(7));             // must be overwritten
+      torque = std::vector<Vec3>(cloud.bodies.size(), Vec3::Constant(7));               // must be overwritten
 
-  void SetUp() override {
-    membrane.apply(cloud.bodies, cloud.spheres, SphereCloud::kPerBody, cloud.r, force, torque);
-  }
+  void SetUp() override { membrane.apply(cloud.bodies, cloud.spheres, SphereCloud::kPerBody, cloud.r, force, torque); }
   /// Total force along `axis` on the bodies on the + (sign > 0) or - side of the sample.
   double side_total(int axis, double sign) const {
     double total = 0;
@@ -699,8 +698,7 @@ struct FaceSpec {
   double sign;
   int u, v;
 };
-constexpr std::array<FaceSpec, 4> kFaces = {
-    {{0, 0, +1, 1, 2}, {1, 0, -1, 1, 2}, {2, 1, +1, 0, 2}, {3, 1, -1, 0, 2}}};
+constexpr std::array<FaceSpec, 4> kFaces = {{{0, 0, +1, 1, 2}, {1, 0, -1, 1, 2}, {2, 1, +1, 0, 2}, {3, 1, -1, 0, 2}}};
 
 TEST_P(MembraneTest, AreaIsTheCellCountUnderTheSpheres) {
   const MembraneStats& st = membrane.stats();
@@ -786,9 +784,8 @@ TEST_P(MembraneTest, ForceScalesWithPressure) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Membrane, MembraneTest,
-                         testing::Values(MembraneCase{40, 40, 60, 1.0},   // production resolution: cell = r
-                                         MembraneCase{8, 40, 60, 0.25},
-                                         MembraneCase{12, 20, 30, 0.1},
+                         testing::Values(MembraneCase{40, 40, 60, 1.0},  // production resolution: cell = r
+                                         MembraneCase{8, 40, 60, 0.25}, MembraneCase{12, 20, 30, 0.1},
                                          MembraneCase{40, 12, 30, 0.3}));  // wide in x: y faces dominate
 
 // Bridging: the bag spans a pit in the +y face (bodies removed from the top two body layers over a
@@ -807,7 +804,8 @@ struct PittedCloud {
           if (pitted && under_pit && by >= 6) continue;
           bodies.push_back(box.bodies[b]);
           pit_bottom.push_back(pitted && under_pit && by == 5);
-          for (std::size_t k = 0; k < SphereCloud::kPerBody; ++k) spheres.push_back(box.spheres[b * SphereCloud::kPerBody + k]);
+          for (std::size_t k = 0; k < SphereCloud::kPerBody; ++k)
+            spheres.push_back(box.spheres[b * SphereCloud::kPerBody + k]);
         }
   }
   MembraneStats apply(Membrane& m, std::vector<Vec3>& force) const {

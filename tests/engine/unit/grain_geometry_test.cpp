@@ -139,7 +139,8 @@ TEST_P(GrainClumpTest, EachFaceCarriesItsFullGridOfTangentSpheres) {
   for (std::size_t k = 0; k < outer_faces.size(); ++k) {
     const Face& outer = outer_faces[k];
     const Face& face = inner.faces()[k];
-    ASSERT_LT((face.normal - outer.normal).norm(), 1e-14);  // same construction, so same order: unit vectors agree to rounding
+    ASSERT_LT((face.normal - outer.normal).norm(),
+              1e-14);  // same construction, so same order: unit vectors agree to rounding
 
     const auto tangent = std::count_if(centres.begin(), centres.end(), [&](const Vec3& p) {
       return std::abs(depth_below(outer, p) - d / 2) <= kRel * d / 2;  // kRel: see definition
@@ -186,7 +187,8 @@ TEST_P(GrainClumpTest, EveryEdgeCarriesNeCentresAtSpacingS) {
 TEST_P(GrainClumpTest, NearestNeighbourDistanceIsTheSpacing) {
   double min_dist = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < centres.size(); ++i)
-    for (std::size_t j = i + 1; j < centres.size(); ++j) min_dist = std::min(min_dist, (centres[i] - centres[j]).norm());
+    for (std::size_t j = i + 1; j < centres.size(); ++j)
+      min_dist = std::min(min_dist, (centres[i] - centres[j]).norm());
   EXPECT_NEAR(min_dist, s, kRel * s);  // kRel: see definition
 }
 
@@ -227,7 +229,7 @@ TEST(GrainTemplatePaper, SphereCountsAndRhombicDodecahedronDiameter) {
   const GrainTemplate rd(GrainGeometry{Shape::rhombic_dodecahedron, kSize, 10, 0.75});
   EXPECT_EQ(cube.sphere_count(), 488u);
   EXPECT_EQ(rd.sphere_count(), 974u);
-  EXPECT_NEAR(rd.diameter() / kSize, 0.1513, 0.5e-4);  // the 4-digit value quoted in docs/model.md
+  EXPECT_NEAR(rd.diameter() / kSize, 0.1513, 0.5e-4);    // the 4-digit value quoted in docs/model.md
   EXPECT_NEAR(cube.diameter() / kSize, 1 / 3.25, kRel);  // 9 * 0.25 + 1 = 3.25
 }
 
@@ -322,8 +324,7 @@ TEST(PolyhedronSolid, RhombicDodecahedronInertiaMatchesDecomposition) {
   EXPECT_TRUE(ref_inertia.isApprox(std::pow(a, 5) / 64 * Mat3::Identity(), kRel)) << ref_inertia;
   EXPECT_NEAR(mp.volume, ref.volume, kRel * ref.volume);
   EXPECT_LT(mp.centroid.norm(), kRel * a);
-  EXPECT_TRUE(mp.inertia_per_density.isApprox(ref_inertia, kRel)) << mp.inertia_per_density << "\nvs\n"
-                                                                   << ref_inertia;
+  EXPECT_TRUE(mp.inertia_per_density.isApprox(ref_inertia, kRel)) << mp.inertia_per_density << "\nvs\n" << ref_inertia;
 }
 
 class PolyhedronFaces : public testing::TestWithParam<Shape> {};
@@ -339,7 +340,7 @@ TEST_P(PolyhedronFaces, AreOutwardRhombiAtTheInradiusAndBoundContains) {
     EXPECT_NEAR(f.edge_a.dot(f.normal), 0, kRel * e);
     EXPECT_NEAR(f.edge_b.dot(f.normal), 0, kRel * e);
     EXPECT_GT(f.edge_a.cross(f.edge_b).dot(f.normal), 0);  // right-handed, outward
-    EXPECT_NEAR(f.corner.dot(f.normal), h, kRel * h);       // every face at distance h
+    EXPECT_NEAR(f.corner.dot(f.normal), h, kRel * h);      // every face at distance h
     // The face centre is on the surface; 1e-6 h along the normal is clearly in or out.
     const Vec3 centre = f.corner + (f.edge_a + f.edge_b) / 2;
     EXPECT_TRUE(p.contains(centre - 1e-6 * h * f.normal));

@@ -85,7 +85,8 @@ TEST(NeighborList, WallCandidatesMatchBruteForce) {
   list.update(s.bodies, s.walls);
   std::vector<std::uint64_t> expected;
   for (std::size_t k = 0; k < s.spheres.size(); ++k)
-    if (s.walls[0].distance(s.spheres[k]) < s.grain.radius() + skin) expected.push_back(wall_pair_key(0, std::uint32_t(k)));
+    if (s.walls[0].distance(s.spheres[k]) < s.grain.radius() + skin)
+      expected.push_back(wall_pair_key(0, std::uint32_t(k)));
   ASSERT_FALSE(expected.empty());
   EXPECT_EQ(list.wall_keys(), expected);
 }

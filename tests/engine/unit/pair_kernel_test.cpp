@@ -25,7 +25,8 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
   std::vector<Vec3> sa(n), sb(n), hist(n);
   std::vector<std::uint32_t> keys(n);
   // One template holds both grains' spheres: a's at 0..n-1, b's at n..2n-1, mapped by the poses below.
-  const Quat qa(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())), qb(Eigen::AngleAxisd(-1.1, Vec3(3, -1, 2).normalized()));
+  const Quat qa(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())),
+      qb(Eigen::AngleAxisd(-1.1, Vec3(3, -1, 2).normalized()));
   const Vec3 xa(0.001, -0.002, 0.003), xb(0.004, 0.001, -0.002);
   std::vector<Vec3> offsets(2 * n);
   for (int k = 0; k < n; ++k) {
@@ -88,7 +89,9 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, PairKernel, ::testing::Values(false, true),
-                         [](const ::testing::TestParamInfo<bool>& p) { return p.param ? "DistancesFirst" : "OnePass"; });
+                         [](const ::testing::TestParamInfo<bool>& p) {
+                           return p.param ? "DistancesFirst" : "OnePass";
+                         });
 
 }  // namespace
 }  // namespace granulab

@@ -30,7 +30,8 @@ struct Incline {
     mat.damping = 0.3;
     const double dt = 0.2 * contact_time_scale(cube, mat.youngs_modulus, mat.density);
     const double g = 9.81;
-    return World(cube, contact_law(cube, mat), {dt, 0.1 * cube.diameter(), Vec3(g * std::sin(theta), 0, -g * std::cos(theta))});
+    return World(cube, contact_law(cube, mat),
+                 {dt, 0.1 * cube.diameter(), Vec3(g * std::sin(theta), 0, -g * std::cos(theta))});
   }
   void run(int steps) {
     for (int k = 0; k < steps; ++k) world.step();

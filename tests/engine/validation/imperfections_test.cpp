@@ -82,7 +82,8 @@ double apparent_modulus(const CrystalResult& r) {
 
 TEST(Imperfections, LowerTheApparentModulus) {
   CrystalCompression perfect(small_crystal(0, 0)), sized(small_crystal(0.005, 0)), tilted(small_crystal(0, 1));
-  const double e0 = apparent_modulus(perfect.run()), es = apparent_modulus(sized.run()), et = apparent_modulus(tilted.run());
+  const double e0 = apparent_modulus(perfect.run()), es = apparent_modulus(sized.run()),
+               et = apparent_modulus(tilted.run());
   ASSERT_GT(e0, 0);
   EXPECT_LT(es, 0.8 * e0) << "perfect " << e0 << " Pa, sigma_s = 0.5 %: " << es;
   EXPECT_LT(et, 0.8 * e0) << "perfect " << e0 << " Pa, sigma_r = 1 deg: " << et;

@@ -34,7 +34,8 @@ using Kind = LoadSegment::Kind;
 TEST(LoadingProgram, UnloadsToTheDeviatorLeavesAResidualStrainAndReloads) {
   CrystalParams p = small_crystal();
   // The first yield of this crystal lies near 1e-3 (crystal_compression_test): unload after it.
-  p.program = {{Kind::to_strain, 0.002, 0}, {Kind::to_deviator, 0.0, 0}, {Kind::hold, 0, 500}, {Kind::to_strain, 0.003, 0}};
+  p.program = {
+      {Kind::to_strain, 0.002, 0}, {Kind::to_deviator, 0.0, 0}, {Kind::hold, 0, 500}, {Kind::to_strain, 0.003, 0}};
   CrystalCompression experiment(p);
   const CrystalResult r = experiment.run();
   ASSERT_EQ(r.segments.size(), 4u);
@@ -163,7 +164,8 @@ TEST(FixedForces, ExactlyP0TimesAreaPerFaceAtTheStartAndConstantAfter) {
   // platens themselves carry (almost) nothing; the stress columns count the ends back in.
   const CrystalRow& first = r.curve.front();
   EXPECT_NEAR(first.deviator, 0, p.equilibrium_tolerance * kP0);
-  EXPECT_NEAR(experiment.sample().wall_stress(experiment.sample().top_wall()), r.curve.back().stress_top - fixed.load[4] / experiment.sample().cross_section(), 1e-9 * kP0);
+  EXPECT_NEAR(experiment.sample().wall_stress(experiment.sample().top_wall()),
+              r.curve.back().stress_top - fixed.load[4] / experiment.sample().cross_section(), 1e-9 * kP0);
 
   // Constant, bit for bit, through the run, which loaded the crystal past its first yield.
   EXPECT_GT(r.curve.back().deviator, 2 * kP0);

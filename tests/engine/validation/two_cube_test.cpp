@@ -57,7 +57,8 @@ TEST(TwoCube, CommensurateOffsetsLoseOneRowEach) {
     const double s = exp.world().grain().spacing();
     for (int m = 0; m < c.ne; ++m) {
       exp.place_at(m * s);
-      EXPECT_NEAR(exp.normal_force() / exp.p0(), 1.0 - double(m) / c.ne, kExact) << c.ne << " " << c.kappa << " m=" << m;
+      EXPECT_NEAR(exp.normal_force() / exp.p0(), 1.0 - double(m) / c.ne, kExact)
+          << c.ne << " " << c.kappa << " m=" << m;
       EXPECT_NEAR(exp.tangential_force() / exp.p0(), 0.0, kExact);
       EXPECT_EQ(exp.world().contact_stats().contacts, std::size_t(c.ne * (c.ne - m)));
     }
