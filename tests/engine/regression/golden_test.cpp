@@ -65,20 +65,24 @@ Record run(const CrystalParams& p) {
   return out;
 }
 
-// Scale of each curve column (CrystalRow::columns()): strains by max_strain, stresses by p0, the
-// energy ratio by 1, counts by the contacts at the start.
+// Scale of each curve column (CrystalRow::columns()), every one of them: strains by max_strain, stresses
+// by p0, the energy ratio by 1, counts by the contacts at the start, the program segment by 1 (any change of
+// it is a failure).
 std::vector<double> column_scales(const Record& r, const CrystalParams& p) {
   const double contacts = r.curve.front()[8];
-  return {p.max_strain,
-          p.confining_pressure,
-          p.confining_pressure,
-          p.confining_pressure,
-          p.max_strain,
-          p.max_strain,
-          p.confining_pressure,
-          1.0,
-          contacts,
-          contacts};
+  const std::vector<double> scales = {p.max_strain,
+                                      p.confining_pressure,
+                                      p.confining_pressure,
+                                      p.confining_pressure,
+                                      p.max_strain,
+                                      p.max_strain,
+                                      p.confining_pressure,
+                                      1.0,
+                                      contacts,
+                                      contacts,
+                                      1.0};
+  EXPECT_EQ(scales.size(), CrystalRow::columns().size()) << "a curve column without a scale is never compared";
+  return scales;
 }
 
 /// The largest difference between two records, each quantity over its scale; positions over the grain
@@ -86,6 +90,8 @@ std::vector<double> column_scales(const Record& r, const CrystalParams& p) {
 double largest_difference(const Record& a, const Record& b, const CrystalParams& p) {
   if (a.curve.size() != b.curve.size() || a.position.size() != b.position.size()) return INFINITY;
   const std::vector<double> scale = column_scales(b, p);
+  for (std::size_t i = 0; i < a.curve.size(); ++i)
+    if (a.curve[i].size() != scale.size() || b.curve[i].size() != scale.size()) return INFINITY;
   double worst = 0;
   // A NaN anywhere is the worst difference (std::max would skip it).
   auto worse = [&worst](double d) { worst = d <= worst ? worst : (d == d ? d : INFINITY); };
