@@ -199,6 +199,24 @@ class WebPageTest(unittest.TestCase):
         # The server's curve picture, inline: deviator and the two platens.
         self.assertEqual(self.browser.until("document.querySelectorAll('#curve svg polyline.series').length"), 3)
         self.assertIn("first yield", self.browser.js("document.querySelector('#curve svg').textContent"))
+        # The headline's key values in the crystal's natural unit, and its summary tables (one segment here).
+        key_values = self.browser.until("document.getElementById('key-values') && "
+                                        "document.getElementById('key-values').textContent")
+        self.assertRegex(key_values, r"first yield [0-9.]+ p0 at [0-9.e-]+ %; peak [0-9.]+ p0")
+        self.assertIn("loading segments", self.browser.until("document.getElementById('summary-tables').textContent"))
+        self.assertEqual(self.browser.js("document.querySelectorAll('#summary-tables tr').length"), 2)
+        # The column chooser draws one column; the units chooser redraws in SI (kPa instead of p0).
+        self.assertIn("stress (p0)", self.browser.js("document.querySelector('#curve svg').textContent"))
+        self.browser.js("""(() => { const y = document.getElementById('curve-y'); y.value = 'lateral_stress';
+                           y.dispatchEvent(new Event('change')); })()""")
+        self.assertEqual(self.browser.until("(() => { const s = document.querySelectorAll('#curve svg polyline.series');"
+                                            " return s.length === 1 && s[0].getAttribute('data-label'); })()"),
+                         "lateral_stress")
+        self.browser.js("""(() => { const y = document.getElementById('curve-y'); y.value = '';
+                           const u = document.getElementById('curve-units'); u.value = 'si';
+                           u.dispatchEvent(new Event('change')); })()""")
+        self.assertTrue(self.browser.until("document.querySelectorAll('#curve svg polyline.series').length === 3 && "
+                                           "document.querySelector('#curve svg').textContent.includes('stress (kPa)')"))
         # The latest snapshot's section: one hexagon per grain of the middle layer (3 x 6).
         self.assertEqual(self.browser.until("document.querySelectorAll('#snapshot svg polygon.grain').length"), 18)
         # Another field and layer redraw it.
@@ -225,6 +243,10 @@ class WebPageTest(unittest.TestCase):
         self.assertIn("0.1", rows[0])
         self.assertIn("0.3", rows[1])
         self.assertIn("succeeded", rows[0])
+        # The table's columns are the two cubes' headline values, not a crystal's first yield.
+        headers = self.browser.js("Array.from(document.querySelectorAll('#sweep-jobs th')).map(h => h.textContent)")
+        self.assertIn("friction ratio T / P", headers)
+        self.assertNotIn("first yield (p0)", headers)
 
     def test_the_form_names_a_bad_field_next_to_it_and_submits_a_good_spec(self):
         self.browser.open(self.daemon.url + "/#/submit")
