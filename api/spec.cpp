@@ -13,7 +13,7 @@ void visit_job_fields(ParameterVisitor& v, JobFields& f) {
   v.choice("experiment", f.experiment, names, "which experiment (docs/spec.md lists each one's fields)");
   v.text("label", f.label, 200, "free text");
   v.section("run");
-  v.integer("threads", f.threads, 0, 256, "OpenMP threads, 0 = all cores");
+  v.integer("threads", f.threads, 0, 256, "OpenMP threads, 0 = all cores (on a daemon: at most its threads per job)");
 }
 
 Spec parse_spec(const nlohmann::json& document) {
