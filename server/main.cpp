@@ -56,57 +56,104 @@ const char* kUsage =
 using granulab::api::parse_int_option;
 using granulab::api::parse_number_option;
 
+// The command line, checked (std::invalid_argument names the bad option); `help` when --help was asked for.
+struct DaemonOptions {
+  std::string host = "127.0.0.1", db = "var/granulab.db", token_file, executor_name = "local", jwt_key_file;
+  slurm::ExecutorOptions slurm;
+  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
+  HttpOptions http;
+  bool help = false;
+};
+
+DaemonOptions parse_options(int argc, char** argv) {
+  DaemonOptions o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      o.help = true;
+      return o;
+    }
+    if (a == "--private") {
+      o.http.private_reads = true;
+      continue;
+    }
+    if (i + 1 >= argc) throw std::invalid_argument("'" + a + "' needs a value\n" + kUsage);
+    const std::string v = argv[++i];
+    if (a == "--host") o.host = v;
+    else if (a == "--port") o.port = parse_int_option(a, v, 0, 65535);
+    else if (a == "--db") o.db = v;
+    else if (a == "--workers") o.workers = parse_int_option(a, v, 1, 256);
+    else if (a == "--threads") o.threads = parse_int_option(a, v, 1, 256);
+    else if (a == "--token-file") o.token_file = v;
+    else if (a == "--max-queued-per-user") o.http.max_queued_per_user = parse_int_option(a, v, 0, 1000000);
+    else if (a == "--max-running-per-user") o.max_running_per_user = parse_int_option(a, v, 0, 1000000);
+    else if (a == "--request-timeout") o.http.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+    else if (a == "--keep-alive-timeout") o.http.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
+    else if (a == "--max-db-mb") o.max_db_mb = parse_int_option(a, v, 1, 100000000);
+    else if (a == "--checkpoint-seconds") o.checkpoint_seconds = parse_int_option(a, v, 0, 86400);
+    else if (a == "--max-connections") o.http.max_connections = parse_int_option(a, v, 1, 100000);
+    else if (a == "--max-memory") o.http.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
+    else if (a == "--max-sphere-steps") o.http.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
+    else if (a == "--executor") o.executor_name = v;
+    else if (a == "--slurm-url") o.slurm.rest.url = v;
+    else if (a == "--slurm-user") o.slurm.rest.user = v;
+    else if (a == "--slurm-jwt-key") o.jwt_key_file = v;
+    else if (a == "--slurm-partition") o.slurm.partition = v;
+    else if (a == "--public-url") o.slurm.public_url = v;
+    else if (a == "--slurm-time-limit") o.slurm.max_time_limit_minutes = parse_int_option(a, v, 1, 525600);
+    else if (a == "--slurm-signal-seconds") o.slurm.signal_seconds = parse_int_option(a, v, 1, 86400);
+    else if (a == "--slurm-output") o.slurm.output = v;
+    else if (a == "--slurm-worker") o.slurm.worker_binary = v;
+    else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
+  }
+  return o;
+}
+
+// The executor --executor names, with `threads` per job: this machine's pool, or a Slurm cluster (then
+// `cluster` points at it).
+std::unique_ptr<Executor> make_executor(DaemonOptions& o, int threads, JobStore& store,
+                                        slurm::SlurmExecutor*& cluster) {
+  if (o.executor_name != "slurm") {
+    auto pool = std::make_unique<WorkerPool>(store, o.workers, threads);
+    pool->set_max_running_per_owner(o.max_running_per_user);
+    pool->set_checkpoint_seconds(o.checkpoint_seconds);
+    return pool;
+  }
+  slurm::ExecutorOptions& slurm_options = o.slurm;
+  if (!o.jwt_key_file.empty()) {
+    std::ifstream key(o.jwt_key_file, std::ios::binary);
+    if (!key) throw std::invalid_argument("cannot read --slurm-jwt-key '" + o.jwt_key_file + "'");
+    slurm_options.rest.jwt_key.assign(std::istreambuf_iterator<char>(key), {});
+  } else if (const char* jwt = std::getenv("SLURM_JWT")) {
+    slurm_options.rest.jwt = jwt;
+  }
+  if (slurm_options.worker_binary.empty())
+    slurm_options.worker_binary = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
+  slurm_options.threads_per_job = threads;
+  slurm_options.checkpoint_seconds = o.checkpoint_seconds;
+  auto slurm_executor = std::make_unique<slurm::SlurmExecutor>(store, slurm_options);
+  cluster = slurm_executor.get();
+  return slurm_executor;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   granulab::api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
-  std::string host = "127.0.0.1", db = "var/granulab.db", token_file, executor_name = "local", jwt_key_file;
-  slurm::ExecutorOptions slurm_options;
-  int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
-  HttpOptions options;
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--help" || a == "-h") {
-        std::cout << kUsage;
-        return 0;
-      }
-      if (a == "--private") {
-        options.private_reads = true;
-        continue;
-      }
-      if (i + 1 >= argc) throw std::invalid_argument("'" + a + "' needs a value\n" + kUsage);
-      const std::string v = argv[++i];
-      if (a == "--host") host = v;
-      else if (a == "--port") port = parse_int_option(a, v, 0, 65535);
-      else if (a == "--db") db = v;
-      else if (a == "--workers") workers = parse_int_option(a, v, 1, 256);
-      else if (a == "--threads") threads = parse_int_option(a, v, 1, 256);
-      else if (a == "--token-file") token_file = v;
-      else if (a == "--max-queued-per-user") options.max_queued_per_user = parse_int_option(a, v, 0, 1000000);
-      else if (a == "--max-running-per-user") max_running_per_user = parse_int_option(a, v, 0, 1000000);
-      else if (a == "--request-timeout") options.request_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
-      else if (a == "--keep-alive-timeout") options.keep_alive_timeout_ms = 1000 * parse_int_option(a, v, 1, 3600);
-      else if (a == "--max-db-mb") max_db_mb = parse_int_option(a, v, 1, 100000000);
-      else if (a == "--checkpoint-seconds") checkpoint_seconds = parse_int_option(a, v, 0, 86400);
-      else if (a == "--max-connections") options.max_connections = parse_int_option(a, v, 1, 100000);
-      else if (a == "--max-memory") options.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
-      else if (a == "--max-sphere-steps") options.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
-      else if (a == "--executor") executor_name = v;
-      else if (a == "--slurm-url") slurm_options.rest.url = v;
-      else if (a == "--slurm-user") slurm_options.rest.user = v;
-      else if (a == "--slurm-jwt-key") jwt_key_file = v;
-      else if (a == "--slurm-partition") slurm_options.partition = v;
-      else if (a == "--public-url") slurm_options.public_url = v;
-      else if (a == "--slurm-time-limit") slurm_options.max_time_limit_minutes = parse_int_option(a, v, 1, 525600);
-      else if (a == "--slurm-signal-seconds") slurm_options.signal_seconds = parse_int_option(a, v, 1, 86400);
-      else if (a == "--slurm-output") slurm_options.output = v;
-      else if (a == "--slurm-worker") slurm_options.worker_binary = v;
-      else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
+    DaemonOptions o = parse_options(argc, argv);
+    if (o.help) {
+      std::cout << kUsage;
+      return 0;
     }
+    const std::string &host = o.host, &db = o.db, &token_file = o.token_file, &executor_name = o.executor_name;
+    slurm::ExecutorOptions& slurm_options = o.slurm;
+    HttpOptions& options = o.http;
+    const int port = o.port, workers = o.workers, max_db_mb = o.max_db_mb;
+    int threads = o.threads;
     if (executor_name != "local" && executor_name != "slurm")
       throw std::invalid_argument("--executor must be local or slurm, got '" + executor_name + "'");
     const bool on_slurm = executor_name == "slurm";
@@ -141,30 +188,8 @@ int main(int argc, char** argv) {
     // Jobs on a cluster are still there: the Slurm executor follows them again.
     const std::size_t requeued = store.requeue_running(on_slurm);
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
-    std::unique_ptr<Executor> executor;
     slurm::SlurmExecutor* cluster = nullptr;
-    if (on_slurm) {
-      if (!jwt_key_file.empty()) {
-        std::ifstream key(jwt_key_file, std::ios::binary);
-        if (!key) throw std::invalid_argument("cannot read --slurm-jwt-key '" + jwt_key_file + "'");
-        slurm_options.rest.jwt_key.assign(std::istreambuf_iterator<char>(key), {});
-      } else if (const char* jwt = std::getenv("SLURM_JWT")) {
-        slurm_options.rest.jwt = jwt;
-      }
-      if (slurm_options.worker_binary.empty())
-        slurm_options.worker_binary =
-            (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
-      slurm_options.threads_per_job = threads;
-      slurm_options.checkpoint_seconds = checkpoint_seconds;
-      auto slurm_executor = std::make_unique<slurm::SlurmExecutor>(store, slurm_options);
-      cluster = slurm_executor.get();
-      executor = std::move(slurm_executor);
-    } else {
-      auto pool = std::make_unique<WorkerPool>(store, workers, threads);
-      pool->set_max_running_per_owner(max_running_per_user);
-      pool->set_checkpoint_seconds(checkpoint_seconds);
-      executor = std::move(pool);
-    }
+    const std::unique_ptr<Executor> executor = make_executor(o, threads, store, cluster);
     Executor& pool = *executor;
     if (!token_file.empty()) {
       std::string warning;
