@@ -12,16 +12,60 @@ std::string curve_csv_header(const std::vector<CurveColumn>& columns) {
   return out + "\n";
 }
 
+namespace {
+
+// One cell: an integer count as an integer, anything else with its column's significant digits.
+void format_cell(const CurveColumn& column, double value, char (&cell)[64]) {
+  if (column.digits == 0) std::snprintf(cell, sizeof cell, "%lld", static_cast<long long>(value));
+  else std::snprintf(cell, sizeof cell, "%.*g", column.digits, value);
+}
+
+std::vector<std::string> header_names(const std::string& header) {
+  std::vector<std::string> names;
+  std::istringstream in(header.substr(0, header.find('\n')));
+  for (std::string name; std::getline(in, name, ',');) names.push_back(name);
+  return names;
+}
+
+}  // namespace
+
 std::string curve_csv_line(const std::vector<CurveColumn>& columns, const std::vector<double>& values) {
   std::string out;
   char cell[64];
   for (std::size_t k = 0; k < columns.size() && k < values.size(); ++k) {
-    if (columns[k].digits == 0) std::snprintf(cell, sizeof cell, "%lld", static_cast<long long>(values[k]));
-    else std::snprintf(cell, sizeof cell, "%.*g", columns[k].digits, values[k]);
+    format_cell(columns[k], values[k], cell);
     if (k) out += ',';
     out += cell;
   }
   return out + "\n";
+}
+
+std::string curve_row_values(const std::vector<CurveColumn>& columns, const std::vector<double>& values) {
+  nlohmann::json row = nlohmann::json::array();
+  char cell[64];
+  for (std::size_t k = 0; k < columns.size() && k < values.size(); ++k) {
+    format_cell(columns[k], values[k], cell);
+    row.push_back(std::strtod(cell, nullptr));  // the value the CSV cell reads as: JSON and CSV agree
+  }
+  return row.dump();
+}
+
+nlohmann::json curve_rows_to_json(const std::string& header, const std::vector<StoredRow>& rows) {
+  const std::vector<std::string> names = header_names(header);
+  nlohmann::json out = nlohmann::json::object();
+  for (const std::string& name : names) out[name] = nlohmann::json::array();
+  for (const StoredRow& row : rows) {
+    nlohmann::json values = row.values.empty() ? nlohmann::json() : nlohmann::json::parse(row.values, nullptr, false);
+    if (!values.is_array()) {  // stored without its values: its line, read as the CSV reader does
+      const nlohmann::json one = curve_csv_to_json(header.substr(0, header.find('\n') + 1) + row.csv);
+      values = nlohmann::json::array();
+      for (const std::string& name : names)
+        if (one.contains(name) && !one[name].empty()) values.push_back(one[name][0]);
+    }
+    for (std::size_t k = 0; k < names.size() && k < values.size(); ++k) out[names[k]].push_back(values[k]);
+  }
+  out["columns"] = names;
+  return out;
 }
 
 nlohmann::json curve_csv_to_json(const std::string& csv) {

@@ -48,7 +48,7 @@ json latest_values(JobStore& store, const JobRecord& job) {
   if (job.status != JobStatus::running) return nullptr;
   const auto row = store.latest_row(job.id);
   if (!row) return nullptr;
-  const json columns = api::curve_csv_to_json(row->first + row->second);
+  const json columns = api::curve_rows_to_json(row->first, {row->second});
   json out = json::object();
   for (const auto& name : columns["columns"])
     if (!columns[name.get<std::string>()].empty()) out[name.get<std::string>()] = columns[name.get<std::string>()][0];
@@ -71,9 +71,9 @@ std::optional<json> curve_columns(JobStore& store, const JobRecord& job) {
       json curve = json::parse(*text, nullptr, false);
       if (!curve.is_discarded()) return curve;
     }
-  const auto csv = store.live_curve_csv(job.id);
-  if (!csv) return std::nullopt;
-  return api::curve_csv_to_json(*csv);
+  const auto rows = store.live_rows(job.id);
+  if (!rows) return std::nullopt;
+  return api::curve_rows_to_json(rows->first, rows->second);
 }
 
 std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job, const pictures::CurveChoice& choice) {

@@ -38,6 +38,9 @@ void StoreSink::begin(const std::vector<CurveColumn>& columns, const api::Resume
       throw CheckpointError("the store holds fewer curve rows than the " + std::to_string(resume->rows) +
                             " the checkpoint follows");
     curve_csv_ = std::move(*kept);
+    // The same rows with their values (the checkpoint follows them, so the store holds them all).
+    rows_ = store_.live_rows(job_).value_or(std::make_pair(std::string(), std::vector<api::StoredRow>())).second;
+    rows_.resize(std::min(rows_.size(), resume->rows));
     rows_stored_ = resume->rows;
     return;
   }
@@ -63,9 +66,10 @@ void StoreSink::checkpoint(const std::string& state, std::size_t rows, std::size
 }
 
 void StoreSink::curve_row(const std::vector<double>& values) {
-  std::string line = api::curve_csv_line(columns_, values);
-  curve_csv_ += line;
-  pending_rows_.push_back(std::move(line));
+  api::StoredRow row{api::curve_csv_line(columns_, values), api::curve_row_values(columns_, values)};
+  curve_csv_ += row.csv;
+  rows_.push_back(row);
+  pending_rows_.push_back(std::move(row));
 }
 
 void StoreSink::snapshot(std::size_t index, const GrainSnapshot& s) {
@@ -103,7 +107,7 @@ bool StoreSink::progress(double fraction) {
 
 void StoreSink::summary(const nlohmann::json& summary) {
   flush();
-  store_.succeed(job_, summary.dump(), curve_csv_, api::curve_csv_to_json(curve_csv_).dump());
+  store_.succeed(job_, summary.dump(), curve_csv_, api::curve_rows_to_json(curve_csv_, rows_).dump());
 }
 
 }  // namespace granulab::server

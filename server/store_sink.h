@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "api/job_sink.h"
+#include "api/stored_row.h"
 #include "server/store/job_store.h"
 
 namespace granulab::server {
@@ -61,8 +62,9 @@ class StoreSink : public api::JobSink {
   std::chrono::steady_clock::time_point last_checkpoint_;
   std::optional<std::chrono::steady_clock::time_point> stop_seen_;  ///< when progress first saw the shutdown
   std::vector<CurveColumn> columns_;
-  std::string curve_csv_;                  // the whole curve, for the final store
-  std::vector<std::string> pending_rows_;  // not yet in the store
+  std::string curve_csv_;                   // the whole curve, for the final store
+  std::vector<api::StoredRow> rows_;        // every row (values and line), for the final JSON curve
+  std::vector<api::StoredRow> pending_rows_;  // not yet in the store
   std::size_t rows_stored_ = 0;
   std::vector<JobStore::SnapshotBlob> pending_snapshots_;
   std::chrono::steady_clock::time_point start_, last_flush_;

@@ -130,6 +130,7 @@ void RemoteSink::begin(const std::vector<CurveColumn>& columns, const api::Resum
 
 void RemoteSink::curve_row(const std::vector<double>& values) {
   lines_.push_back(api::curve_csv_line(columns_, values));
+  values_.push_back(api::curve_row_values(columns_, values));
 }
 
 void RemoteSink::snapshot(std::size_t index, const GrainSnapshot& s) {
@@ -143,6 +144,7 @@ bool RemoteSink::flush(bool wait) {
     answer = link_.post_json("/results",
                              {{"first_index", rows_sent_},
                               {"lines", lines_},
+                              {"values", values_},
                               {"snapshots", snapshots_},
                               {"progress", fraction_},
                               {"eta_seconds", fraction_ > 0 ? elapsed * (1 - fraction_) / fraction_ : -1.0}},
@@ -153,6 +155,7 @@ bool RemoteSink::flush(bool wait) {
   }
   rows_sent_ += lines_.size();
   lines_.clear();
+  values_.clear();
   snapshots_ = json::array();
   last_flush_ = Clock::now();
   cancel_ = cancel_ || answer.value("cancel", false);  // a flush for a checkpoint sees it too

@@ -97,7 +97,8 @@ class RemoteSink : public api::JobSink {
   double flush_seconds_, checkpoint_seconds_;
   std::string engine_version_;
   std::vector<CurveColumn> columns_;
-  std::vector<std::string> lines_;  // not yet sent
+  std::vector<std::string> lines_;   // not yet sent
+  std::vector<std::string> values_;  // their values as the lines read them (api::curve_row_values)
   nlohmann::json snapshots_ = nlohmann::json::array();
   std::size_t rows_sent_ = 0;
   double fraction_ = 0;

@@ -136,7 +136,8 @@ void mount_job_routes(Router& router, const RouteContext& c) {
       return error(res, 409, "wrong_state",
                    "job " + std::to_string(id) + " is " + api::status_name(job->status) + " and has no curve yet");
     if (csv) return res.set_content(*text, "text/csv");
-    res.set_content(api::curve_csv_to_json(*text).dump(), "application/json");
+    const auto curve = curve_columns(c.store, *job);  // from the stored rows' values, not from the CSV
+    res.set_content(curve ? curve->dump() : api::curve_csv_to_json(*text).dump(), "application/json");
   });
 
   router.get(R"(/v1/jobs/(\d+)/snapshots)", {}, [c](const http::Request& req, http::Response& res) {

@@ -115,13 +115,17 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
     if (job->status != JobStatus::running)
       return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
     const json body = json::parse(req.body, nullptr, false);
-    std::vector<std::string> lines;
+    std::vector<std::string> lines, values;
     std::vector<JobStore::SnapshotBlob> snapshots;
     std::size_t first = 0;
     double progress = 0, eta = -1;
     try {
       first = body.at("first_index").get<std::size_t>();
       lines = body.at("lines").get<std::vector<std::string>>();
+      // Each row's values as its line reads them (api::curve_row_values); a worker may leave them out.
+      if (body.contains("values")) values = body.at("values").get<std::vector<std::string>>();
+      if (!values.empty() && values.size() != lines.size())
+        throw std::invalid_argument("'values' must have one entry per line");
       for (const json& s : body.at("snapshots"))
         snapshots.push_back({s.at("index").get<int>(), s.at("strain").get<double>(), s.at("data").get<std::string>()});
       progress = body.at("progress").get<double>();
@@ -129,7 +133,9 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
     } catch (const std::exception& e) {
       return error(res, 400, "invalid_value", std::string("malformed results batch: ") + e.what(), "results");
     }
-    if (!lines.empty() || !snapshots.empty()) c.store.append_results(job->id, first, lines, snapshots);
+    std::vector<api::StoredRow> rows;
+    for (std::size_t k = 0; k < lines.size(); ++k) rows.push_back({lines[k], values.empty() ? "" : values[k]});
+    if (!rows.empty() || !snapshots.empty()) c.store.append_results(job->id, first, rows, snapshots);
     c.store.set_progress(job->id, progress, eta);
     reply(res, 200, {{"cancel", c.store.cancel_requested(job->id)}});
   });
@@ -172,8 +178,9 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
       if (!body.contains("summary") || !body["summary"].is_object())
         return error(res, 400, "invalid_value", "a succeeded run sends its summary", "summary");
       const std::string csv = c.store.live_curve_csv(id).value_or("");
-      if (c.store.succeed(id, body["summary"].dump(), csv, api::curve_csv_to_json(csv).dump()) ||
-          job->status == JobStatus::succeeded)
+      const auto rows = c.store.live_rows(id);
+      const json curve = rows ? api::curve_rows_to_json(rows->first, rows->second) : api::curve_csv_to_json(csv);
+      if (c.store.succeed(id, body["summary"].dump(), csv, curve.dump()) || job->status == JobStatus::succeeded)
         return reply(res, 200, {{"id", id}, {"status", api::status_name(JobStatus::succeeded)}});
     } else if (outcome == "failed") {
       if (c.store.fail(id, text(body, "error", "the worker failed")) || job->status == JobStatus::failed)

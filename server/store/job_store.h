@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "api/job_status.h"
+#include "api/stored_row.h"
 
 namespace granulab::server {
 
@@ -158,7 +159,7 @@ class JobStore {
     std::string engine_version;  ///< of the build that wrote it: another build starts the job afresh
   };
   /// With `checkpoint`, stores it in the same transaction as the rows and snapshots it goes with.
-  void append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
+  void append_results(std::int64_t id, std::size_t first_index, const std::vector<api::StoredRow>& rows,
                       const std::vector<SnapshotBlob>& snapshots, const Checkpoint* checkpoint = nullptr);
   std::optional<Checkpoint> checkpoint(std::int64_t id);
   /// Before a resumed run: drops the rows and snapshots made after the checkpoint (they are made again).
@@ -169,9 +170,12 @@ class JobStore {
   /// The curve as CSV: the stored whole curve of a succeeded job, else the header and the rows written so
   /// far (running, and what a cancelled or failed job computed); nullopt when there is none.
   std::optional<std::string> live_curve_csv(std::int64_t id);
-  /// The curve's header line and its latest stored row (CSV, newlines included) while the job runs or after
-  /// it stopped without succeeding; nullopt when no row is stored.
-  std::optional<std::pair<std::string, std::string>> latest_row(std::int64_t id);
+  /// The curve's header line and its latest stored row while the job runs or after it stopped without
+  /// succeeding; nullopt when no row is stored.
+  std::optional<std::pair<std::string, api::StoredRow>> latest_row(std::int64_t id);
+  /// The header line and every stored row of a job's live curve (running, cancelled or failed); nullopt
+  /// when it has no header (never started).
+  std::optional<std::pair<std::string, std::vector<api::StoredRow>>> live_rows(std::int64_t id);
 
   /// Stores snapshot `index` of a job as a BLOB (replacing one already stored under that index).
   void add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob);

@@ -117,6 +117,11 @@ ALTER TABLE jobs ADD COLUMN slurm_attempts INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN worker_token TEXT NOT NULL DEFAULT '';
 CREATE INDEX jobs_on_cluster ON jobs (slurm_done, slurm_job_id);
 )sql",
+    // 6: each live curve row's values as its CSV line reads them (a JSON array), so that a curve's JSON is
+    // built from numbers, not from CSV text; '' for rows stored before (they are read from their line).
+    R"sql(
+ALTER TABLE curve_rows ADD COLUMN row_values TEXT NOT NULL DEFAULT '';
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

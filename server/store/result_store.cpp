@@ -38,7 +38,7 @@ void JobStore::start_curve(std::int64_t id, const std::string& header) {
   tx.commit();
 }
 
-void JobStore::append_results(std::int64_t id, std::size_t first_index, const std::vector<std::string>& lines,
+void JobStore::append_results(std::int64_t id, std::size_t first_index, const std::vector<api::StoredRow>& rows,
                               const std::vector<SnapshotBlob>& snapshots, const Checkpoint* checkpoint) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
@@ -47,10 +47,10 @@ void JobStore::append_results(std::int64_t id, std::size_t first_index, const st
     st.bind(1, id);
     if (!st.step()) return;
   }
-  Statement row(*db_, "INSERT OR REPLACE INTO curve_rows (job_id, idx, line) VALUES (?1, ?2, ?3)");
-  for (std::size_t k = 0; k < lines.size(); ++k) {
+  Statement row(*db_, "INSERT OR REPLACE INTO curve_rows (job_id, idx, line, row_values) VALUES (?1, ?2, ?3, ?4)");
+  for (std::size_t k = 0; k < rows.size(); ++k) {
     row.reset();
-    row.bind(1, id).bind(2, std::int64_t(first_index + k)).bind(3, lines[k]).run();
+    row.bind(1, id).bind(2, std::int64_t(first_index + k)).bind(3, rows[k].csv).bind(4, rows[k].values).run();
   }
   Statement snap(*db_,
                  "INSERT INTO snapshots (job_id, idx, strain, data) VALUES (?1, ?2, ?3, ?4) "
@@ -126,16 +126,29 @@ std::optional<std::string> JobStore::live_curve_csv(std::int64_t id) {
   return csv;
 }
 
-std::optional<std::pair<std::string, std::string>> JobStore::latest_row(std::int64_t id) {
+std::optional<std::pair<std::string, api::StoredRow>> JobStore::latest_row(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
   header.bind(1, id);
   if (!header.step()) return std::nullopt;
   std::string head = header.column_text(0);
-  Statement last(*db_, "SELECT line FROM curve_rows WHERE job_id = ?1 ORDER BY idx DESC LIMIT 1");
+  Statement last(*db_, "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx DESC LIMIT 1");
   last.bind(1, id);
   if (head.empty() || !last.step()) return std::nullopt;
-  return std::make_pair(std::move(head), last.column_text(0));
+  return std::make_pair(std::move(head), api::StoredRow{last.column_text(0), last.column_text(1)});
+}
+
+std::optional<std::pair<std::string, std::vector<api::StoredRow>>> JobStore::live_rows(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
+  header.bind(1, id);
+  if (!header.step()) return std::nullopt;
+  std::pair<std::string, std::vector<api::StoredRow>> out{header.column_text(0), {}};
+  if (out.first.empty()) return std::nullopt;
+  Statement rows(*db_, "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx");
+  rows.bind(1, id);
+  while (rows.step()) out.second.push_back({rows.column_text(0), rows.column_text(1)});
+  return out;
 }
 
 void JobStore::add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob) {
