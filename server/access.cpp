@@ -58,34 +58,40 @@ bool Access::gate(const http::Request& req, http::Response& res) const {
   return true;
 }
 
-std::optional<JobRecord> Access::job_for(JobStore& store, const http::Request& req, http::Response& res,
-                                         const char* action, bool write) const {
+namespace {
+
+// The record of the path's id (a job's or a sweep's) if the caller may read it (or, `write`, change it);
+// otherwise a 404 or a 403 naming the `action`.
+template <class Record, class Get, class May>
+std::optional<Record> owned(const char* what, Get get, May may, const http::Request& req, http::Response& res,
+                            const char* action) {
   const auto id = path_id(req.matches.at(1));
-  auto job = id ? store.get(*id) : std::nullopt;
-  if (!job) {
-    error(res, 404, "not_found", "no job " + req.matches[1]);
+  std::optional<Record> record = id ? get(*id) : std::nullopt;
+  if (!record) {
+    error(res, 404, "not_found", std::string("no ") + what + " " + req.matches[1]);
     return std::nullopt;
   }
-  if (may(who(req), job->owner, write)) return job;
+  if (may(record->owner)) return record;
   error(res, 403, "forbidden",
-        "job " + std::to_string(job->id) + " belongs to '" + job->owner + "': only its owner or an admin may " +
-            action + " it");
+        std::string(what) + " " + std::to_string(record->id) + " belongs to '" + record->owner +
+            "': only its owner or an admin may " + action + " it");
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<JobRecord> Access::job_for(JobStore& store, const http::Request& req, http::Response& res,
+                                         const char* action, bool write) const {
+  return owned<JobRecord>(
+      "job", [&](std::int64_t id) { return store.get(id); },
+      [&](const std::string& owner) { return may(who(req), owner, write); }, req, res, action);
 }
 
 std::optional<SweepRecord> Access::sweep_for(JobStore& store, const http::Request& req, http::Response& res,
                                              const char* action, bool write) const {
-  const auto id = path_id(req.matches.at(1));
-  auto sweep = id ? store.get_sweep(*id) : std::nullopt;
-  if (!sweep) {
-    error(res, 404, "not_found", "no sweep " + req.matches[1]);
-    return std::nullopt;
-  }
-  if (may(who(req), sweep->owner, write)) return sweep;
-  error(res, 403, "forbidden",
-        "sweep " + std::to_string(sweep->id) + " belongs to '" + sweep->owner + "': only its owner or an admin may " +
-            action + " it");
-  return std::nullopt;
+  return owned<SweepRecord>(
+      "sweep", [&](std::int64_t id) { return store.get_sweep(id); },
+      [&](const std::string& owner) { return may(who(req), owner, write); }, req, res, action);
 }
 
 std::optional<std::string> Access::listing_owner(const http::Request& req, http::Response& res,

@@ -48,6 +48,13 @@ std::optional<JobRecord> worker_job(const RouteContext& c, const Request& req, R
   return job;
 }
 
+// A worker's writes are for a running job only (else a 409 saying what it is now).
+bool still_running(const JobRecord& job, Response& res) {
+  if (job.status == JobStatus::running) return true;
+  error(res, 409, "wrong_state", "job " + std::to_string(job.id) + " is " + api::status_name(job.status));
+  return false;
+}
+
 }  // namespace
 
 void mount_worker_routes(Router& router, const RouteContext& c) {
@@ -87,8 +94,7 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
   router.post(R"(/v1/worker/jobs/(\d+)/begin)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
-    if (job->status != JobStatus::running)
-      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+    if (!still_running(*job, res)) return;
     const json body = json::parse(req.body, nullptr, false);
     if (!body.is_object() || !body.contains("header") || !body["header"].is_string())
       return error(res, 400, "invalid_value", "expected {\"header\": CSV header line, \"resume_rows\": n or null}",
@@ -112,8 +118,7 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
   router.post(R"(/v1/worker/jobs/(\d+)/results)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
-    if (job->status != JobStatus::running)
-      return error(res, 409, "wrong_state", "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+    if (!still_running(*job, res)) return;
     const json body = json::parse(req.body, nullptr, false);
     std::vector<std::string> lines, values;
     std::vector<JobStore::SnapshotBlob> snapshots;
@@ -146,9 +151,7 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
       [c](const http::Request& req, http::Response& res) {
         const auto job = worker_job(c, req, res);
         if (!job) return;
-        if (job->status != JobStatus::running)
-          return error(res, 409, "wrong_state",
-                       "job " + std::to_string(job->id) + " is " + api::status_name(job->status));
+        if (!still_running(*job, res)) return;
         long rows = -1, snapshots = -1;
         if (!query_int(req, res, "rows", 0, 1L << 40, rows) ||
             !query_int(req, res, "snapshots", 0, 1L << 20, snapshots))

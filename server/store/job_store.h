@@ -231,6 +231,8 @@ class JobStore {
  private:
   /// A job's status, or nullopt for an unknown id (the caller holds the lock).
   std::optional<JobStatus> status_locked(std::int64_t id);
+  /// A live curve's header and its rows (or only its latest); nullopt without a header.
+  std::optional<std::pair<std::string, std::vector<api::StoredRow>>> live_rows_locked(std::int64_t id, bool last_only);
   /// The one finishing move (the caller holds the lock, in a transaction): `to` (succeeded, failed or
   /// cancelled) from one of `from`, finished now, with its event; a finished job keeps no checkpoint.
   /// False, and nothing changed, when the job is unknown or not in `from`.

@@ -105,6 +105,20 @@ void JobStore::discard_partial_results(std::int64_t id) {
   tx.commit();
 }
 
+std::optional<std::pair<std::string, std::vector<api::StoredRow>>> JobStore::live_rows_locked(std::int64_t id,
+                                                                                              bool last_only) {
+  Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
+  header.bind(1, id);
+  if (!header.step()) return std::nullopt;
+  std::pair<std::string, std::vector<api::StoredRow>> out{header.column_text(0), {}};
+  if (out.first.empty()) return std::nullopt;
+  Statement rows(*db_, last_only ? "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx DESC LIMIT 1"
+                                 : "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx");
+  rows.bind(1, id);
+  while (rows.step()) out.second.push_back({rows.column_text(0), rows.column_text(1)});
+  return out;
+}
+
 std::optional<std::string> JobStore::live_curve_csv(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   {
@@ -112,43 +126,23 @@ std::optional<std::string> JobStore::live_curve_csv(std::int64_t id) {
     whole.bind(1, id);
     if (whole.step()) return whole.column_text(0);
   }
-  std::string csv;
-  {
-    Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
-    header.bind(1, id);
-    if (!header.step()) return std::nullopt;
-    csv = header.column_text(0);
-  }
-  if (csv.empty()) return std::nullopt;
-  Statement rows(*db_, "SELECT line FROM curve_rows WHERE job_id = ?1 ORDER BY idx");
-  rows.bind(1, id);
-  while (rows.step()) csv += rows.column_text(0);
+  const auto live = live_rows_locked(id, false);
+  if (!live) return std::nullopt;
+  std::string csv = live->first;
+  for (const api::StoredRow& row : live->second) csv += row.csv;
   return csv;
 }
 
 std::optional<std::pair<std::string, api::StoredRow>> JobStore::latest_row(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
-  header.bind(1, id);
-  if (!header.step()) return std::nullopt;
-  std::string head = header.column_text(0);
-  Statement last(*db_, "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx DESC LIMIT 1");
-  last.bind(1, id);
-  if (head.empty() || !last.step()) return std::nullopt;
-  return std::make_pair(std::move(head), api::StoredRow{last.column_text(0), last.column_text(1)});
+  auto live = live_rows_locked(id, true);
+  if (!live || live->second.empty()) return std::nullopt;
+  return std::make_pair(std::move(live->first), std::move(live->second.front()));
 }
 
 std::optional<std::pair<std::string, std::vector<api::StoredRow>>> JobStore::live_rows(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement header(*db_, "SELECT curve_header FROM jobs WHERE id = ?1");
-  header.bind(1, id);
-  if (!header.step()) return std::nullopt;
-  std::pair<std::string, std::vector<api::StoredRow>> out{header.column_text(0), {}};
-  if (out.first.empty()) return std::nullopt;
-  Statement rows(*db_, "SELECT line, row_values FROM curve_rows WHERE job_id = ?1 ORDER BY idx");
-  rows.bind(1, id);
-  while (rows.step()) out.second.push_back({rows.column_text(0), rows.column_text(1)});
-  return out;
+  return live_rows_locked(id, false);
 }
 
 void JobStore::add_snapshot(std::int64_t job_id, int index, double strain, const std::vector<std::uint8_t>& blob) {

@@ -158,6 +158,26 @@ class Answer:
         return None
 
 
+def read_answer(sock, timeout):
+    """The bytes of one answer read from `sock`: until it is complete, the peer closes, or `timeout` s pass."""
+    buf = b""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if not select.select([sock], [], [], max(0.0, deadline - time.time()))[0]:
+            break
+        try:
+            chunk = sock.recv(65536)
+        except OSError:
+            break
+        if not chunk:
+            break
+        buf += chunk
+        got = parse_response(buf)
+        if got and got[1]:
+            break
+    return buf
+
+
 def parse_response(buf):
     """The final (non-1xx) response in `buf`: an Answer and whether its body is complete, or None."""
     pos = 0
@@ -238,20 +258,7 @@ class Daemon:
                     s.sendall(data)
                 except OSError:
                     pass
-                deadline = time.time() + timeout
-                while time.time() < deadline:
-                    if not select.select([s], [], [], max(0.0, deadline - time.time()))[0]:
-                        break
-                    try:
-                        chunk = s.recv(65536)
-                    except OSError:
-                        break
-                    if not chunk:
-                        break
-                    buf += chunk
-                    got = parse_response(buf)
-                    if got and got[1]:
-                        break
+                buf = read_answer(s, timeout)
         except OSError as e:
             return Answer(None, {}, b"", f"{type(e).__name__}: {e}")
         got = parse_response(buf)
@@ -1077,19 +1084,7 @@ class OpenApiConformanceTest(unittest.TestCase):
         self.run_one(lim, Case("GET /v1/health", "/v1/health", raw=b"GET /v1/health HTTP/1.1\r\nHost: x\r\n\r\n",
                                expect=503, what="a third connection of at most 2"))
         for s in held:
-            buf = b""
-            deadline = time.time() + 5
-            while time.time() < deadline:
-                try:
-                    chunk = s.recv(65536)
-                except OSError:
-                    break
-                if not chunk:
-                    break
-                buf += chunk
-                got = parse_response(buf)
-                if got and got[1]:
-                    break
+            buf = read_answer(s, 5)
             s.close()
             got = parse_response(buf)
             answer = got[0] if got else Answer(None, {}, buf, "no answer within 5 s")
