@@ -374,9 +374,16 @@ class SlurmExecutorTest(unittest.TestCase):
         for job, before in zip(done, running):
             self.assertEqual(job["status"], "succeeded", f"{job}\n{self.daemon_log()}")
             self.assertEqual(job["slurm_job_id"], before["slurm_job_id"], "the restart submitted it again")
+        # slurmctld writes a job's completion record after its worker has told the daemon the end: wait for it.
+        def runs(names, j):
+            return sum(1 for n in names if n == f"granulab-{j}" or n.startswith(f"granulab-{j}-"))
+        deadline = time.time() + 30
         names = [c.get("Name", "") for c in self.cluster.completed()]
+        while time.time() < deadline and any(runs(names, j) == 0 for j in ids):
+            time.sleep(0.5)
+            names = [c.get("Name", "") for c in self.cluster.completed()]
         for j in ids:
-            self.assertEqual(sum(1 for n in names if n == f"granulab-{j}" or n.startswith(f"granulab-{j}-")), 1, names)
+            self.assertEqual(runs(names, j), 1, names)
         for job, rate in zip(done, rates):
             self.assertEqual(self.client.curve_csv(job["id"]), self.local_curve(short_spec(rate), f"restart_{rate}"))
 
