@@ -8,6 +8,7 @@
 
 #include "api/spec.h"
 #include "server/http/replies.h"
+#include "server/speed_model.h"
 
 namespace granulab::server {
 
@@ -70,60 +71,38 @@ bool Admission::within_queue_quota(const User& who, std::size_t more, http::Resp
 json Admission::cost_estimate(const api::Spec& spec) const {
   const Workload w = spec.experiment->workload();
   const std::string experiment = spec.normalized["experiment"].get<std::string>();
-  // The speed of this server: the median rate of its recent succeeded jobs of the same experiment (of any,
-  // failing that); with none, 5e7 sphere-steps per second per thread, what the crystal runs at here.
-  // The workload's step count is an upper bound (confinement until converged, at most its step limit):
-  // the same jobs also say what fraction of it runs took (their steps over their own estimate).
-  // With no similar run, the bound itself: an upper estimate.
-  std::vector<double> same, any, used;
+  // The threads it will run on: the executor's share, fewer when the spec asks (WorkerPool).
+  const int threads = spec.threads > 0 ? std::min(spec.threads, executor_.threads_per_job()) : executor_.threads_per_job();
+  // This server's own speed: its recent succeeded jobs' sizes, threads and sphere-steps per second.
+  std::vector<MeasuredRun> history;
   for (const JobRecord& j : store_.list(JobStatus::succeeded, 50, 0, "")) {
     const json summary = json::parse(j.summary_json, nullptr, false);
-    if (!summary.is_object() || !summary.contains("sphere_steps_per_second") ||
-        !summary["sphere_steps_per_second"].is_number())
-      continue;
-    const double rate = summary["sphere_steps_per_second"].get<double>();
-    if (!(rate > 0)) continue;
-    any.push_back(rate);
-    if (j.experiment != experiment) continue;
-    same.push_back(rate);
-    if (summary.contains("steps") && summary["steps"].is_number()) {
-      try {
-        // Only runs of a similar length: the fraction depends on the loading (a slow rate spends longer
-        // compressing, a small crystal converges sooner), so unlike runs would mislead.
-        const double bound = api::parse_spec_text(j.spec_json).experiment->workload().steps;
-        if (bound > 0.5 * w.steps && bound < 2 * w.steps)
-          used.push_back(std::clamp(summary["steps"].get<double>() / bound, 0.01, 1.0));
-      } catch (const std::exception&) {
-        // a spec this build no longer accepts says nothing about this one
-      }
-    }
+    if (!summary.is_object()) continue;
+    const auto number = [&](const char* key) {
+      return summary.contains(key) && summary[key].is_number() ? summary[key].get<double>() : 0.0;
+    };
+    history.push_back({{j.experiment, number("spheres"), number("grains"), int(number("threads"))},
+                       number("sphere_steps_per_second")});
   }
-  double fraction = 1;
-  if (!used.empty()) {
-    std::nth_element(used.begin(), used.begin() + used.size() / 2, used.end());
-    fraction = used[used.size() / 2];
-  }
-  std::vector<double>& rates = same.empty() ? any : same;
-  std::string basis =
-      same.empty() ? (any.empty() ? "typical" : "recent jobs of other experiments") : "recent " + experiment + " jobs";
-  double rate = 5e7 * executor_.threads_per_job();
-  if (!rates.empty()) {
-    std::nth_element(rates.begin(), rates.begin() + rates.size() / 2, rates.end());
-    rate = rates[rates.size() / 2];
-  }
+  const SpeedEstimate speed = estimate_speed({experiment, w.spheres, w.grains, threads}, history);
+  json phases = json::array();
+  for (const WorkPhase& p : w.phases) phases.push_back({{"name", p.name}, {"steps", p.steps}});
   json out = {{"dry_run", true},
               {"experiment", experiment},
               {"spheres", w.spheres},
               {"grains", w.grains},
-              {"steps", w.steps},
-              {"sphere_steps", w.sphere_steps()},
+              {"steps", w.expected_steps()},
+              {"phases", phases},
+              {"max_steps", w.steps},
+              {"sphere_steps", w.expected_sphere_steps()},
               {"memory_bytes", w.peak_bytes()},
-              {"sphere_steps_per_second", rate},
-              {"rate_basis", basis},
-              {"expected_seconds", fraction * w.sphere_steps() / rate},
-              {"steps_fraction", fraction},
+              {"threads", threads},
+              {"sphere_steps_per_second", speed.sphere_steps_per_second},
+              {"rate_basis", speed.basis},
+              {"expected_seconds", w.expected_sphere_steps() / speed.sphere_steps_per_second},
               {"queued_ahead", store_.count(JobStatus::queued)},
-              {"units", {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
+              {"units",
+               {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
   if (const std::string problem = budget_problem(spec); !problem.empty()) out["over_budget"] = problem;
   return out;
 }

@@ -121,15 +121,21 @@ json parse_vary(const std::vector<std::string>& options) {
 }
 
 std::string human_cost(const json& c) {
-  char text[400];
-  const std::string when = duration(c.value("expected_seconds", 0.0));
+  char text[600];
+  std::string phases;
+  for (const json& p : c.value("phases", json::array()))
+    if (p.is_object() && p.contains("steps") && p["steps"].is_number()) {
+      char one[120];
+      std::snprintf(one, sizeof one, "%s%s %.3g", phases.empty() ? "" : ", ", p.value("name", "").c_str(),
+                    p["steps"].get<double>());
+      phases += one;
+    }
   std::snprintf(text, sizeof text,
-                "%s: %.4g spheres in %.4g grains, at most %.3g steps; peak memory about %.0f MB; %s %s once started "
-                "(at %.3g sphere-steps/s, %s); %lld jobs queued ahead\n",
+                "%s: %.4g spheres in %.4g grains, about %.3g steps (%s; at most %.3g); peak memory about %.0f MB; "
+                "about %s once started on %d thread(s) (at %.3g sphere-steps/s: %s); %lld jobs queued ahead\n",
                 c.value("experiment", "").c_str(), c.value("spheres", 0.0), c.value("grains", 0.0),
-                c.value("steps", 0.0), c.value("memory_bytes", 0.0) / 1e6,
-                // Without a similar finished run the time is the step bound's: an upper estimate.
-                c.value("steps_fraction", 1.0) < 1 ? "about" : "at most about", when.c_str(),
+                c.value("steps", 0.0), phases.c_str(), c.value("max_steps", 0.0), c.value("memory_bytes", 0.0) / 1e6,
+                duration(c.value("expected_seconds", 0.0)).c_str(), c.value("threads", 0),
                 c.value("sphere_steps_per_second", 0.0), c.value("rate_basis", "").c_str(),
                 c.value("queued_ahead", 0LL));
   std::string out = text;

@@ -33,11 +33,32 @@ CrystalGeometry lattice_geometry(const CrystalSampleParams& p) {
 
 }  // namespace
 
+// Measured (bench/README.md, "Cost estimates"): confinement took 440-3,880 contact times on 30 crystals
+// (3 x 7 x 4 to 8 x 18 x 6 grains, N_e = 4 and 6, 10 to 60 kPa), longer the more slender the crystal: rows
+// over {111} layers of 1 gave 440-520, of 4 gave 2,440-3,880. 700 contact times per unit of that aspect
+// ratio is within 0.74-1.39 of 26 of them; the other 4 (8 x 18 x 6 and 6 x 6 x 6 at N_e = 6, 4 x 8 x 3
+// at N_e = 6 and 60 kPa) converged sooner, down to 0.27 of it.
+double expected_confinement_steps(const CrystalSampleParams& p) {
+  const double contact_times = 700 * std::max(1.0, double(p.rows_z) / p.layers_y);
+  return std::min(double(p.max_confinement_steps), contact_times / p.time_step_factor);
+}
+
+double crystal_length_estimate(const CrystalSampleParams& p) {
+  const GrainTemplate grain(p.grain);
+  const CrystalLattice lattice = build_crystal(lattice_geometry(p));
+  double reach = 0;  // how far a grain's spheres reach along z beyond its centre (m)
+  for (const Vec3& o : grain.offsets()) reach = std::max(reach, std::abs((lattice.orientation * o).z()));
+  double lo = 1e300, hi = -1e300;
+  for (const LatticeSite& s : lattice.sites) lo = std::min(lo, s.position.z()), hi = std::max(hi, s.position.z());
+  return hi - lo + 2 * (reach + grain.radius());
+}
+
 Workload confinement_workload(const CrystalSampleParams& p) {
   Workload w;
   w.grains = double(p.grains_x) * p.rows_z * p.layers_y;
   w.spheres = w.grains * double(sphere_count(p.grain));
   w.steps = double(p.max_confinement_steps);
+  w.phases.push_back({"confinement", expected_confinement_steps(p)});
   return w;
 }
 

@@ -52,8 +52,14 @@ struct CrystalSampleParams {
 /// carry p0 (the Love-Weber stress of the packing is E eps0 / sqrt2).
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
 
-/// The sample's size and the confinement's step cap (knock-outs and an early equilibrium only lower them).
+/// The sample's size, the confinement's step cap (knock-outs and an early equilibrium only lower them) and
+/// its expected steps.
 Workload confinement_workload(const CrystalSampleParams& p);
+/// The time steps confinement is expected to take (-), from the crystal's aspect ratio (calibrated).
+double expected_confinement_steps(const CrystalSampleParams& p);
+/// The platens' gap before confinement (m): the end rows' outermost sphere surfaces, as the sample places
+/// its walls, from the lattice and the grain's spheres alone (a few microseconds, no world built).
+double crystal_length_estimate(const CrystalSampleParams& p);
 /// dt (s) of the sample's world; with imperfect grains, of the smallest one they may draw (min_scale_bound).
 double crystal_time_step(const CrystalSampleParams& p);
 

@@ -4,7 +4,8 @@
 //   #/sweeps/ID    a sweep: overlaid curves and a table of its jobs' varied values and key values
 // What each experiment shows first (its curve's axes and series, key summary values and tables) is its
 // headline, from GET /v1/experiments: the page names no experiment's columns.
-//   #/submit       a form built from the experiment registry, prefilled from an example; errors by field
+//   #/submit       a form built from the experiment registry, prefilled from an example (the cheapest first);
+//                  its cost (dry runs) shown as it changes, a question before a long job; errors by field
 // Every request carries the token kept in localStorage (asked for once, when the server answers 401).
 // Pictures are the server's own SVG documents, placed inline so they scale and can be inspected.
 "use strict";
@@ -304,13 +305,14 @@ async function submitView() {
   const vary = el("textarea", { id: "vary", rows: 3, cols: 60, placeholder: "loading.confining_pressure=10e3,30e3,60e3" });
   const zip = el("input", { type: "checkbox", id: "zip" });
   const message = el("p", { id: "submit-message" });
+  const cost = el("p", { id: "submit-cost" });
   setMain(el("h1", {}, "Submit an experiment"),
     el("div", { class: "controls" }, el("label", {}, "experiment ", experimentSelect), el("label", {}, "start from ", exampleSelect)),
     form,
     el("h2", {}, "Sweep (optional)"),
     el("p", { class: "hint" }, "One line per varied field: dotted.key=value1,value2,… Every combination runs, or the lists are paired with ‘zip’."),
     vary, el("div", {}, el("label", {}, zip, " zip the lists")),
-    el("p", {}, el("button", { id: "submit", type: "button", onclick: () => submit() }, "Submit")), message);
+    cost, el("p", {}, el("button", { id: "submit", type: "button", onclick: () => submit() }, "Submit")), message);
 
   let fields = [];
   const build = () => {
@@ -375,10 +377,8 @@ async function submitView() {
     }
   }
 
-  async function send() {
-    for (const e of form.querySelectorAll(".field-error")) e.hidden = true;
-    for (const e of form.querySelectorAll("input.bad")) e.classList.remove("bad");
-    message.textContent = "";
+  // The form as a spec and the sweep's lists, or the field that is wrong.
+  function readForm() {
     const spec = { experiment: experimentSelect.value };
     for (const f of fields) {
       const input = document.getElementById("f-" + f.field);
@@ -389,21 +389,65 @@ async function submitView() {
       if (input.dataset.defaultText && value === input.dataset.defaultText) continue;
       if (f.type === "number" || f.type === "integer") value = Number(value);
       else if (f.type.startsWith("array")) {
-        try { value = JSON.parse(value); } catch (e) { return showError(f.field, f.field + ": not a JSON list"); }
+        try { value = JSON.parse(value); } catch (e) { return { error: [f.field, f.field + ": not a JSON list"] }; }
       }
-      if (typeof value === "number" && Number.isNaN(value)) return showError(f.field, f.field + ": not a number");
-      const path = f.field.split(".");
-      let at = spec;
-      for (const k of path.slice(0, -1)) at = at[k] = at[k] || {};
-      at[path[path.length - 1]] = value;
+      if (typeof value === "number" && Number.isNaN(value)) return { error: [f.field, f.field + ": not a number"] };
+      setDotted(spec, f.field, value);
     }
     const varied = {};
     for (const line of vary.value.split("\n").map((l) => l.trim()).filter(Boolean)) {
       const eq = line.indexOf("=");
-      if (eq < 0) return showError("", "sweep line '" + line + "' has no '='");
+      if (eq < 0) return { error: ["", "sweep line '" + line + "' has no '='"] };
       varied[line.slice(0, eq).trim()] = line.slice(eq + 1).split(",").map((v) => { const n = Number(v); return v.trim() !== "" && !Number.isNaN(n) ? n : v.trim(); });
     }
-    const sweep = Object.keys(varied).length > 0;
+    return { spec, varied, sweep: Object.keys(varied).length > 0 };
+  }
+
+  // The cost of what the form would submit: a dry run of each job (a sweep's combinations, at most 50),
+  // shown as the spec changes; `last` is what the Submit button warns with.
+  let last = null, pending = null;
+  async function estimate() {
+    const form = readForm();
+    if (form.error) return fill(cost, el("span", { class: "hint" }, "cost: " + form.error[1]));
+    const specs = jobsOf(form.spec, form.varied, zip.checked);
+    if (specs.length > 50) return fill(cost, el("span", { class: "hint" }, specs.length + " jobs: too many to estimate here"));
+    const answers = await Promise.all(specs.map((s) => sendJson("POST", "/v1/jobs?dry_run=true", s)));
+    const bad = answers.find((a) => a.status >= 400);
+    if (bad) {
+      last = null;
+      const e = bad.body.error || {};
+      return fill(cost, el("span", { class: "error" }, "not accepted: " + (e.message || "HTTP " + bad.status)));
+    }
+    const seconds = answers.reduce((t, a) => t + a.body.expected_seconds, 0);
+    const over = answers.find((a) => a.body.over_budget);
+    const one = answers[0].body;
+    last = { seconds, jobs: answers.length };
+    const what = answers.length > 1
+      ? answers.length + " jobs, about " + duration(seconds) + " of compute in all (one after another on a worker)"
+      : "about " + duration(seconds) + " once started (" + fmt(one.steps) + " steps: " +
+        one.phases.map((p) => p.name + " " + fmt(p.steps, 2)).join(", ") + "), " + fmt(one.memory_bytes / 1e6, 2) + " MB";
+    fill(cost, el("span", { class: seconds > LONG_JOB_SECONDS ? "warning" : "hint" }, "Expected: " + what + " on " +
+      one.threads + " thread(s); " + one.queued_ahead + " queued ahead. Speed: " + one.rate_basis + "."),
+      over ? el("div", { class: "error" }, "over budget: " + over.body.over_budget) : null);
+  }
+  const scheduleEstimate = () => { clearTimeout(pending); pending = setTimeout(() => estimate().catch((e) => fill(cost, el("span", { class: "error" }, e.message))), 400); };
+  form.addEventListener("input", scheduleEstimate);
+  vary.addEventListener("input", scheduleEstimate);
+  zip.addEventListener("change", scheduleEstimate);
+  experimentSelect.addEventListener("change", scheduleEstimate);
+  exampleSelect.addEventListener("change", scheduleEstimate);
+  scheduleEstimate();
+
+  async function send() {
+    for (const e of form.querySelectorAll(".field-error")) e.hidden = true;
+    for (const e of form.querySelectorAll("input.bad")) e.classList.remove("bad");
+    message.textContent = "";
+    const { spec, varied, sweep, error } = readForm();
+    if (error) return showError(error[0], error[1]);
+    await estimate().catch(() => {});
+    if (last && last.seconds > LONG_JOB_SECONDS &&
+        !window.confirm("This is expected to take about " + duration(last.seconds) + (last.jobs > 1 ? " for " + last.jobs + " jobs" : "") + ". Submit it?"))
+      return fill(message, el("span", { class: "hint" }, "not submitted"));
     const answer = sweep
       ? await sendJson("POST", "/v1/sweeps", { spec, vary: varied, mode: zip.checked ? "zip" : "product", label: spec.label || "" })
       : await sendJson("POST", "/v1/jobs", spec);
@@ -414,6 +458,35 @@ async function submitView() {
     location.hash = sweep ? "#/sweeps/" + answer.body.id : "#/jobs/" + answer.body.id;
   }
   return null;
+}
+
+// Longer than this (s), the submit form asks before queueing.
+const LONG_JOB_SECONDS = 600;
+
+function setDotted(spec, dotted, value) {
+  const path = dotted.split(".");
+  let at = spec;
+  for (const k of path.slice(0, -1)) at = at[k] = at[k] && typeof at[k] === "object" ? at[k] : {};
+  at[path[path.length - 1]] = value;
+}
+
+// The specs of a sweep: every combination of the lists (or the lists paired, zip), as the server makes them.
+function jobsOf(spec, varied, zip) {
+  const keys = Object.keys(varied);
+  if (!keys.length) return [spec];
+  let combos = [];
+  if (zip) {
+    const n = Math.min(...keys.map((k) => varied[k].length));
+    for (let i = 0; i < n; ++i) combos.push(keys.map((k) => varied[k][i]));
+  } else {
+    combos = [[]];
+    for (const k of keys) combos = combos.flatMap((c) => varied[k].map((v) => [...c, v]));
+  }
+  return combos.map((values) => {
+    const one = JSON.parse(JSON.stringify(spec));
+    keys.forEach((k, i) => setDotted(one, k, values[i]));
+    return one;
+  });
 }
 
 // ---- routing ----------------------------------------------------------------------------------------

@@ -270,6 +270,32 @@ class WebPageTest(unittest.TestCase):
         self.assertEqual(self.browser.until("document.querySelector('#job-head h1') && "
                                             "document.querySelector('#job-head h1').textContent"), f"Job {job}: from the form")
 
+    def test_the_form_starts_from_a_quick_crystal_shows_the_cost_and_asks_before_a_long_job(self):
+        self.browser.open(self.daemon.url + "/#/submit")
+        self.browser.until("document.getElementById('experiment') !== null")
+        self.browser.js("""(() => { const s = document.getElementById('experiment'); s.value = 'crystal_compression';
+                           s.dispatchEvent(new Event('change')); })()""")
+        # The first example offered is the cheapest: the quick crystal, not the 864-grain reference.
+        self.assertEqual(self.browser.until("document.getElementById('example').value === 'crystal_quick' && "
+                                            "document.getElementById('example').value"), "crystal_quick")
+        with open(os.path.join(ROOT, "examples", "crystal_quick.json")) as f:
+            expected = self.daemon.call("POST", "/v1/jobs?dry_run=true", json.load(f))
+        line = self.browser.until("(document.getElementById('submit-cost') || {}).textContent || ''")
+        self.assertIn("Expected: about", line)
+        self.assertIn("%g steps" % float("%.3g" % expected["steps"]), line)
+        self.assertIn("confinement", line)
+        # A slow, long run: the line turns into a warning, and Submit asks first (answered no: nothing queued).
+        before = len(self.daemon.call("GET", "/v1/jobs?limit=1000")["jobs"])
+        self.browser.js("""(() => { window.asked = '';  window.confirm = (m) => { window.asked = m; return false; };
+                           const i = document.getElementById('f-loading.rate_number'); i.value = '1e-7';
+                           i.dispatchEvent(new Event('input', { bubbles: true })); })()""")
+        self.browser.until("document.querySelector('#submit-cost .warning') !== null")
+        self.browser.js("document.getElementById('submit').click()")
+        asked = self.browser.until("window.asked")
+        self.assertIn("expected to take about", asked)
+        self.assertIn("not submitted", self.browser.until("document.getElementById('submit-message').textContent"))
+        self.assertEqual(len(self.daemon.call("GET", "/v1/jobs?limit=1000")["jobs"]), before)
+
 
 @unittest.skipUnless(os.path.exists(CHROMIUM), "Debian's chromium is not installed (make test installs it)")
 class WebPageWithTokensTest(unittest.TestCase):

@@ -52,27 +52,28 @@ struct CrystalCompression::Schedule {
   double deviator_per_row, travel_per_row = 0;
 };
 
-// The progress bar is shared between the phases in proportion to their expected steps, so that an ETA
-// drawn from it holds from the start. Confinement: about 4 of the servo's time constants (20 x 50 contact
-// times each; a 6 x 12 x 3 crystal took 4.4), at most its step limit; loading: loading_steps().
+// The progress bar is shared between the phases in proportion to their expected steps (the cost model the
+// dry run gives: expected_confinement_steps, loading_phases), so that an ETA drawn from it holds from the start.
 struct CrystalCompression::ProgressShare {
-  static constexpr double kTimeConstants = 4;
   ProgressShare(const CrystalParams& p, const CrystalSample& sample, double length) {
     const double dt = sample.world().settings().time_step;
-    const double confinement_steps =
-        std::min(double(p.max_confinement_steps), kTimeConstants * 20 * 50 * sample.contact_time() / dt);
-    compression_steps = loading_steps(p, length);
+    const double confinement_steps = expected_confinement_steps(p);
+    for (const WorkPhase& phase : loading_phases(p, length, dt)) compression_steps += phase.steps;
     share = confinement_steps / (confinement_steps + compression_steps);
+    // confine()'s progress time constant: 20 servo times of 50 contact times.
+    confinement_constants = confinement_steps * dt / (20 * 50 * sample.contact_time());
   }
-  /// confine() reports 1 - exp(-steps / time constant): back to time constants, linear in steps.
-  double confining(double f) const { return share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / kTimeConstants); }
+  /// confine() reports 1 - exp(-steps / time constant): back to steps, of the expected ones.
+  double confining(double f) const {
+    return share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / confinement_constants);
+  }
   /// Monotonic: the strain reached of max_strain; a program: its steps of the expected ones.
   double loading(bool monotonic, double strain, double max_strain, std::uint64_t steps) const {
     const double fraction =
         monotonic ? std::min(1.0, std::max(0.0, strain) / max_strain) : std::min(0.99, steps / compression_steps);
     return share + (1 - share) * fraction;
   }
-  double share = 0, compression_steps = 0;
+  double share = 0, compression_steps = 0, confinement_constants = 1;
 };
 
 // One run's moving parts: where the results go, where it stands, and its schedule.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -171,12 +172,52 @@ void CrystalCompression::restore(const std::string& checkpoint, Position& at, Cr
   in.finish();
 }
 
-double loading_steps(const CrystalParams& p, double length, bool bound) {
-  const double wave_speed = std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
-  const double travel = p.program.empty() ? p.max_strain : bound ? travel_bound(p.program) : planned_travel(p.program);
+namespace {
+
+double platen_wave_speed(const CrystalParams& p) {
+  return std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
+}
+
+std::string percent(double strain) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g %%", 100 * strain);
+  return text;
+}
+
+}  // namespace
+
+// Each moving segment: its travel at R c, plus what its ramps cost (drive_platen, platen_speed_fraction).
+// The platen accelerates linearly over a ramp of ten wave transits (half a ramp lost); a to_strain segment
+// followed by another slows down over its last ramp of travel, its speed in proportion to what is left (an
+// exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
+// lost. A release to a deviator has no slow-down, and is counted as giving back half the strain reached.
+std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step) {
+  const double c = platen_wave_speed(p), speed = p.rate_number * c, ramp = 10 * length / c;
+  std::vector<LoadSegment> program = p.program;
+  if (program.empty()) program.push_back({LoadSegment::Kind::to_strain, p.max_strain, 0});
+  const std::vector<double> travel = planned_segment_travels(program);
+  std::vector<WorkPhase> out;
+  for (std::size_t k = 0; k < program.size(); ++k) {
+    const LoadSegment& s = program[k];
+    if (s.kind == LoadSegment::Kind::hold) {
+      out.push_back({"hold " + std::to_string(s.steps) + " steps", double(s.steps)});
+      continue;
+    }
+    const bool slows_down = s.kind == LoadSegment::Kind::to_strain && k + 1 < program.size();
+    const double seconds = travel[k] * length / speed + ramp * (0.5 + (slows_down ? 3.0 : 0.0));
+    out.push_back({s.kind == LoadSegment::Kind::to_strain ? "to_strain " + percent(s.value)
+                                                          : "to_deviator " + std::to_string(int(s.value)) + " Pa",
+                   seconds / time_step});
+  }
+  return out;
+}
+
+double loading_steps_bound(const CrystalParams& p, double length) {
+  const double c = platen_wave_speed(p);
+  const double travel = p.program.empty() ? p.max_strain : travel_bound(p.program);
   const double moves = p.program.empty() ? 1 : double(p.program.size());
-  // The platen's travel at R c, and about 5 wave transits per segment for its ramps.
-  return (travel * length / (p.rate_number * wave_speed) + moves * 5 * length / wave_speed) / crystal_time_step(p) +
+  // The platen's travel at R c, and at most 4 ramps of ten wave transits per segment (loading_phases).
+  return (travel * length / (p.rate_number * c) + moves * 40 * length / c) / crystal_time_step(p) +
          hold_steps(p.program);
 }
 

@@ -69,9 +69,11 @@ struct CrystalResult {
 /// strength of order p0.
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
 
-/// The expected time steps of the loading phase (after confinement) of a sample of `length` (m); with
-/// `bound`, at most how many a program may take (travel_bound()).
-double loading_steps(const CrystalParams& p, double length, bool bound = false);
+/// The expected time steps of each loading segment (one without a program) of a sample of `length` (m)
+/// stepped by `time_step` (s).
+std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step);
+/// At most how many time steps the loading of a sample of `length` (m) may take (travel_bound()) (-).
+double loading_steps_bound(const CrystalParams& p, double length);
 
 /// The first yield peak of a crystal curve: once the deviator exceeds 0.1 p0, the largest deviator
 /// before it first falls `drop` (relative) below its running maximum. Returns {strain (-), deviator (Pa)};

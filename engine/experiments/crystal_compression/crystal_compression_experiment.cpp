@@ -202,8 +202,11 @@ Headline CrystalCompressionExperiment::headline() const {
 
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
-  // Loading: over a sample no longer than rows_z grain sizes; a program at its longest (budgets rely on it).
-  w.steps += loading_steps(params, params.rows_z * params.grain.size, true);
+  // The bound: loading a sample no longer than rows_z grain sizes, a program at its longest (budgets rely
+  // on it); the expected phases: the crystal's own length, each segment as planned.
+  w.steps += loading_steps_bound(params, params.rows_z * params.grain.size);
+  for (WorkPhase& phase : loading_phases(params, crystal_length_estimate(params), crystal_time_step(params)))
+    w.phases.push_back(std::move(phase));
   return w;
 }
 

@@ -16,16 +16,23 @@ const char* segment_kind_name(LoadSegment::Kind kind) {
 
 namespace {
 
-// The travel of a program whose to_deviator segments each leave the strain at release(strain).
+// The travel of each segment of a program whose to_deviator segments each leave the strain at release(strain).
 template <class Release>
-double travel(const std::vector<LoadSegment>& program, Release release) {
-  double total = 0, strain = 0;
+std::vector<double> travels(const std::vector<LoadSegment>& program, Release release) {
+  std::vector<double> out;
+  double strain = 0;
   for (const LoadSegment& s : program) {
     double to = strain;
     if (s.kind == LoadSegment::Kind::to_strain) to = s.value;
     if (s.kind == LoadSegment::Kind::to_deviator) to = release(strain);
-    total += std::abs(to - strain), strain = to;
+    out.push_back(std::abs(to - strain)), strain = to;
   }
+  return out;
+}
+
+double sum(const std::vector<double>& x) {
+  double total = 0;
+  for (double v : x) total += v;
   return total;
 }
 
@@ -33,12 +40,14 @@ double travel(const std::vector<LoadSegment>& program, Release release) {
 
 // A release counted as giving back half the strain: the reference crystal at 30 kPa, unloaded to a
 // deviator of 0 at 0.5 to 2 %, gave back 37 to 47 % of it (README, "Loading cycles").
-double planned_travel(const std::vector<LoadSegment>& program) {
-  return travel(program, [](double strain) { return strain / 2; });
+std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& program) {
+  return travels(program, [](double strain) { return strain / 2; });
 }
 
+double planned_travel(const std::vector<LoadSegment>& program) { return sum(planned_segment_travels(program)); }
+
 double travel_bound(const std::vector<LoadSegment>& program) {
-  return travel(program, [](double) { return -0.05; });
+  return sum(travels(program, [](double) { return -0.05; }));
 }
 
 double hold_steps(const std::vector<LoadSegment>& program) {

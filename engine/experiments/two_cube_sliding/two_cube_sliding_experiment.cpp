@@ -83,6 +83,7 @@ Workload TwoCubeSlidingExperiment::workload() const {
       params.time_step_factor * contact_time_scale(grain, params.material.youngs_modulus, params.material.density);
   const double wave_speed = std::sqrt(params.material.youngs_modulus / params.material.density);
   w.steps = params.max_slide * params.grain.size / (params.rate_number * wave_speed * dt) + params.curve_points;
+  w.phases.push_back({"slide", w.steps});  // the run is its one slide: the bound is what it takes
   return w;
 }
 
