@@ -79,7 +79,7 @@ def main():
                     summary = json.load(f)
             elif args.run:
                 with open(os.path.join(ROOT, "examples", name + ".json")) as f:
-                    job = client.submit(json.load(f))["id"]
+                    job = client.submit(json.load(f))
                 client.wait(job)
                 summary = client.status(job).get("summary")
             if not summary or "wall_seconds" not in summary:

@@ -5,6 +5,7 @@
 
 #include "engine/analysis/loading_cycles.h"
 #include "engine/crystal/sample_parameters.h"
+#include "engine/experiments/crystal_compression/quasi_static_quality.h"
 
 namespace granulab {
 
@@ -12,6 +13,7 @@ namespace {
 
 struct CrystalSummary : ExperimentResult {
   CrystalResult r;
+  CrystalParams params;
   double p0 = 0;  // Pa
 
   void write_summary(SummaryWriter& w) const override {
@@ -60,9 +62,27 @@ struct CrystalSummary : ExperimentResult {
       }
       w.end_group();
     }
+    const QuasiStaticQuality quality = assess_quasi_static(params, r);
+    write_quality(w, quality);
     w.begin_list("warnings");
     write_confinement_warning(w, r.confinement);
+    for (const std::string& warning : quality.warnings) w.text(nullptr, warning);
     w.end_list();
+  }
+
+  static void write_quality(SummaryWriter& w, const QuasiStaticQuality& q) {
+    w.begin_group("quasi_static");
+    w.number("rate_over_quasi_static", q.rate_over_quasi_static, "-");
+    w.number("expected_bias", q.expected_bias, "-");
+    w.number("platen_imbalance_rms", q.platen_imbalance_rms, "-");
+    w.number("platen_imbalance_max", q.platen_imbalance_max, "-");
+    w.number("kinetic_elastic_mean", q.kinetic_elastic_mean, "-");
+    w.number("kinetic_elastic_max", q.kinetic_elastic_max, "-");
+    w.number("slip_plane_span", q.slip_plane_span, "-");
+    w.begin_list("hints");
+    for (const std::string& hint : q.hints) w.text(nullptr, hint);
+    w.end_list();
+    w.end_group();
   }
 
   // The program's segments as run, and its load-unload cycles (loading_cycles.h).
@@ -215,6 +235,7 @@ std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& 
   CrystalCompression experiment(params);
   out->r = experiment.run(sink, resume);
   out->p0 = params.confining_pressure;
+  out->params = params;
   return out;
 }
 

@@ -38,13 +38,14 @@ double sum(const std::vector<double>& x) {
 
 }  // namespace
 
-// A release counted as giving back half the strain: the reference crystal at 30 kPa, unloaded to a
-// deviator of 0 at 0.5 to 2 %, gave back 37 to 47 % of it (README, "Loading cycles").
-std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& program) {
-  return travels(program, [](double strain) { return strain / 2; });
+// A release counted as giving back `release_fraction` of the strain reached (planned_travel, which spaces the
+// curve rows of a program, keeps half: the reference crystal at 30 kPa, unloaded to a deviator of 0 at 0.5 to
+// 2 %, gave back 37 to 47 % of it; README, "Loading cycles").
+std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& program, double release_fraction) {
+  return travels(program, [release_fraction](double strain) { return strain * (1 - release_fraction); });
 }
 
-double planned_travel(const std::vector<LoadSegment>& program) { return sum(planned_segment_travels(program)); }
+double planned_travel(const std::vector<LoadSegment>& program) { return sum(planned_segment_travels(program, 0.5)); }
 
 double travel_bound(const std::vector<LoadSegment>& program) {
   return sum(travels(program, [](double) { return -0.05; }));

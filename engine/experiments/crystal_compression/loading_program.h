@@ -30,8 +30,9 @@ const char* segment_kind_name(LoadSegment::Kind kind);
 /// The axial strain the platen travels, either way, over a program started at strain 0 (-). Where a
 /// to_deviator segment ends is not known in advance: it counts as releasing half the strain reached.
 double planned_travel(const std::vector<LoadSegment>& program);
-/// The same, segment by segment (-).
-std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& program);
+/// The travel of each segment (-), a to_deviator segment counted as giving back `release_fraction` of the
+/// strain reached.
+std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& program, double release_fraction);
 /// An upper bound of that travel (-): a to_deviator segment may release down to a strain of -0.05 (then
 /// the run fails). For cost estimates, which budgets and time limits rely on.
 double travel_bound(const std::vector<LoadSegment>& program);
