@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/lammps_files.h"
 #include "engine/crystal/crystal_lattice.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
@@ -91,92 +92,31 @@ const char* const wall_names[] = {"xlo", "xhi", "zlo", "zhi"};
 // Writes the LAMMPS inputs for the world as built (before any step).
 void write_lammps(const std::string& dir, const World& world, const Material& mat, double eps0, double speed,
                   const Options& o) {
-  std::filesystem::create_directories(dir);
-  const GrainTemplate& grain = world.grain();
-  const Bodies& bodies = world.bodies();
-  const std::vector<Vec3>& spheres = world.sphere_positions();
-  const std::size_t per = grain.sphere_count();
-  const double d = grain.diameter();
-
   // Box: the sample plus a margin of one grain size on every side (walls only move inwards; the free
   // y faces bulge by far less than that in a benchmark run).
+  const std::vector<Vec3>& spheres = world.sphere_positions();
   Vec3 lo = spheres.front(), hi = lo;
   for (const Vec3& x : spheres) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  const double margin = grain.geometry().size;
+  const double margin = world.grain().geometry().size;
   lo.array() -= margin, hi.array() += margin;
-
-  {
-    std::ofstream f(dir + "/data.grains");
-    f.precision(17);
-    f << "granulab bench_compare: " << bodies.size() << " rhombic dodecahedra, " << per << " spheres each\n\n";
-    f << spheres.size() << " atoms\n1 atom types\n\n";
-    f << lo.x() << ' ' << hi.x() << " xlo xhi\n"
-      << lo.y() << ' ' << hi.y() << " ylo yhi\n"
-      << lo.z() << ' ' << hi.z() << " zlo zhi\n\n";
-    f << "Atoms # sphere\n\n";
-    for (std::size_t s = 0; s < spheres.size(); ++s)
-      f << s + 1 << " 1 " << d << ' ' << mat.density << ' ' << spheres[s].x() << ' ' << spheres[s].y() << ' '
-        << spheres[s].z() << "\n";
-    f << "\nMolecules\n\n";
-    for (std::size_t s = 0; s < spheres.size(); ++s) f << s + 1 << ' ' << s / per + 1 << "\n";
+  bench::write_grains(dir, world, mat.density, lo, hi,
+                      "granulab bench_compare: " + std::to_string(world.bodies().size()) + " rhombic dodecahedra, " +
+                          std::to_string(world.grain().sphere_count()) + " spheres each");
+  std::ofstream f(dir + "/params.txt");
+  f.precision(17);
+  bench::write_contact_params(f, world, mat.density);
+  auto put = [&](const char* k, double v) { f << k << ' ' << v << "\n"; };
+  put("youngs_modulus", mat.youngs_modulus);
+  put("prestrain", eps0);
+  put("steps", o.steps);
+  put("record_every", o.record_every);
+  for (int w = 0; w < 4; ++w) {
+    const Wall& wall = world.walls()[w];
+    const int axis = w < 2 ? 0 : 2;
+    f << "wall_" << wall_names[w] << ' ' << wall.point[axis] << "\n";
   }
-  {
-    std::ofstream f(dir + "/bodies.rigid");
-    f.precision(17);
-    f << "# granulab grains: id mass xcm ycm zcm ixx iyy izz ixy ixz iyz vxcm vycm vzcm lx ly lz ixcm iycm izcm\n";
-    f << "# mass = density x polyhedron volume, inertia of the solid polyhedron (not of the overlapping spheres)\n";
-    f << bodies.size() << "\n";
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      // Lab-frame inertia tensor R diag(I) R^T (isotropic for the RD, so just I times the identity).
-      const Mat3 r = bodies.orientation[b].toRotationMatrix();
-      const Mat3 in = r * bodies.inertia[b].asDiagonal() * r.transpose();
-      const Vec3& x = bodies.position[b];
-      f << b + 1 << ' ' << bodies.mass[b] << ' ' << x.x() << ' ' << x.y() << ' ' << x.z() << ' ' << in(0, 0) << ' '
-        << in(1, 1) << ' ' << in(2, 2) << ' ' << in(0, 1) << ' ' << in(0, 2) << ' ' << in(1, 2)
-        << " 0 0 0 0 0 0 0 0 0\n";
-    }
-  }
-  {
-    const ContactLaw& law = world.law();
-    const double m = bodies.mass[0];
-    // LAMMPS' Hookean damping is m_eff gamma_n v_n with m_eff from the rigid-body masses, so our
-    // c_n = 2 zeta sqrt(k_n m_eff) is gamma_n = c_n / m_eff: m_eff = m/2 for a grain pair, m for a wall.
-    const double gamma_pair = damping_coefficient(law, m / 2) / (m / 2);
-    const double gamma_wall = damping_coefficient(law, m) / m;
-    std::ofstream f(dir + "/params.txt");
-    f.precision(17);
-    auto put = [&](const char* k, double v) { f << k << ' ' << v << "\n"; };
-    put("grains", double(bodies.size()));
-    put("spheres", double(spheres.size()));
-    put("spheres_per_grain", double(per));
-    put("diameter", d);
-    put("grain_size", grain.geometry().size);
-    put("grain_mass", m);
-    put("grain_inertia", bodies.inertia[0].x());
-    put("density", mat.density);
-    put("youngs_modulus", mat.youngs_modulus);
-    put("prestrain", eps0);
-    put("kn", law.normal_stiffness);
-    put("kt", law.tangential_stiffness);
-    put("damping_ratio", law.damping_ratio);
-    put("gamma_n_pair", gamma_pair);
-    put("gamma_t_pair", gamma_pair / 2);  // c_t = c_n / 2
-    put("gamma_n_wall", gamma_wall);
-    put("gamma_t_wall", gamma_wall / 2);
-    put("friction", law.friction);
-    put("dt", world.settings().time_step);
-    put("steps", o.steps);
-    put("record_every", o.record_every);
-    put("skin", world.settings().skin);
-    put("bounding_radius", grain.bounding_radius());
-    for (int w = 0; w < 4; ++w) {
-      const Wall& wall = world.walls()[w];
-      const int axis = w < 2 ? 0 : 2;
-      f << "wall_" << wall_names[w] << ' ' << wall.point[axis] << "\n";
-    }
-    put("top_speed", speed);  // the zhi wall moves along -z at this speed
-    f << "box " << lo.x() << ' ' << hi.x() << ' ' << lo.y() << ' ' << hi.y() << ' ' << lo.z() << ' ' << hi.z() << "\n";
-  }
+  put("top_speed", speed);  // the zhi wall moves along -z at this speed
+  f << "box " << lo.x() << ' ' << hi.x() << ' ' << lo.y() << ' ' << hi.y() << ' ' << lo.z() << ' ' << hi.z() << "\n";
 }
 
 }  // namespace

@@ -59,6 +59,10 @@ CrystalLattice build_crystal(const CrystalGeometry& g) {
   for (const LatticeSite& s : c.sites) lo = lo.cwiseMin(s.position), hi = hi.cwiseMax(s.position);
   const Vec3 centre = (lo + hi) / 2;
   for (LatticeSite& s : c.sites) s.position -= centre;
+  // The box the rules above keep sites in: columns and rows start a quarter period below a site, layers
+  // half a layer spacing below one.
+  c.box_lo = Vec3(-0.25 * px, -0.5 * py, -0.25 * pz) - centre;
+  c.box_hi = c.box_lo + c.extent;
 
   auto knocked = [&](const LatticeSite& s) {
     if (std::find(g.knockout_ids.begin(), g.knockout_ids.end(), s.id) != g.knockout_ids.end()) return true;

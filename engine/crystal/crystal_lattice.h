@@ -42,6 +42,8 @@ struct CrystalLattice {
   Quat orientation;                ///< body (cubic crystal axes) -> lab, the same for every grain
   std::vector<LatticeSite> sites;  ///< present grains, ascending id
   Vec3 extent = Vec3::Zero();      ///< box size: grains_x a'/sqrt2, layers_y a'/sqrt3, rows_z a' sqrt6/4 (m)
+  Vec3 box_lo = Vec3::Zero();      ///< the box's corners in the sites' frame: a site is there iff inside (m)
+  Vec3 box_hi = Vec3::Zero();
   std::size_t knocked_out = 0;
 };
 

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/crystal/exposed_faces.h"
+
 namespace granulab {
 
 namespace {
@@ -140,7 +142,7 @@ bool CrystalSample::step(std::uint64_t since) {
   return true;
 }
 
-void CrystalSample::fix_confining_forces() {
+void CrystalSample::fix_confining_forces(double end_load) {
   update_membrane();  // the lateral faces' forces, from the sample as it is now
   std::vector<Vec3>& force = world_.external_force();
   std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
@@ -157,9 +159,11 @@ void CrystalSample::fix_confining_forces() {
   // the grains' overhang at its rim: 24 % on a 4 x 3 end.)
   // The mean of the two platens' loads on both ends (they differ by the servo's tolerance): fixed forces
   // with a net axial force would push the sample along once a platen lets go.
-  fixed_.load[4] = fixed_.load[5] = -(world_.walls()[top_].force.dot(world_.walls()[top_].normal) +
-                                      world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal)) /
-                                    2;
+  fixed_.load[4] = fixed_.load[5] = fixed_.end_load =
+      end_load >= 0 ? end_load
+                    : -(world_.walls()[top_].force.dot(world_.walls()[top_].normal) +
+                        world_.walls()[bottom_].force.dot(world_.walls()[bottom_].normal)) /
+                          2;
   const double top_scale = top_area > 0 ? fixed_.load[4] / (membrane_.pressure() * top_area) : 0;
   const double bottom_scale = bottom_area > 0 ? fixed_.load[5] / (membrane_.pressure() * bottom_area) : 0;
   for (std::size_t b = 0; b < force.size(); ++b) {
@@ -185,10 +189,30 @@ void CrystalSample::fix_confining_forces() {
   world_.compute_forces();
 }
 
+void CrystalSample::fix_face_forces() {
+  const double cell = (1 - hydrostatic_prestrain(params_.confining_pressure, params_.material.youngs_modulus)) *
+                      params_.grain.size;
+  const std::vector<ExposedArea> exposed = exposed_face_areas(lattice_, grain_.solid(), cell);
+  std::vector<Vec3>& force = world_.external_force();
+  std::fill(force.begin(), force.end(), Vec3::Zero());
+  std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
+  fixed_ = FixedForces{};
+  const double p0 = params_.confining_pressure;
+  for (std::size_t b = 0; b < exposed.size(); ++b) {  // bodies are the sites, in order
+    const double s = world_.bodies().scale[b];        // a smaller grain's faces are smaller
+    const Vec3 lateral = s * s * exposed[b].lateral, end = s * s * exposed[b].end;
+    force[b] = -p0 * (lateral + end);
+    const double parts[6] = {lateral.x(), -lateral.x(), lateral.y(), -lateral.y(), end.z(), -end.z()};
+    for (int k = 0; k < 6; ++k) fixed_.area[k] += std::max(0.0, parts[k]);
+  }
+  for (int k = 0; k < 6; ++k) fixed_.load[k] = p0 * fixed_.area[k];
+  fixed_.end_load = p0 * cross_section_;
+  fixed_.on = true;
+  world_.compute_forces();
+}
+
 double CrystalSample::axial_stress(std::size_t w) const {
-  double end = 0;
-  if (fixed_.on) end = (w == top_ ? fixed_.load[4] : fixed_.load[5]) / cross_section_;
-  return wall_stress(w) + end;
+  return wall_stress(w) + (fixed_.on ? fixed_.end_load / cross_section_ : 0.0);
 }
 
 void CrystalSample::check_finite() const {

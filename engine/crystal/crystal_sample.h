@@ -24,6 +24,7 @@ struct FixedForces {
   bool on = false;
   double area[6] = {0, 0, 0, 0, 0, 0};
   double load[6] = {0, 0, 0, 0, 0, 0};
+  double end_load = 0;  ///< what axial_stress() adds on each end: p0 x the cross-section, within 1 % (N)
 };
 
 struct CrystalSampleParams {
@@ -118,14 +119,22 @@ class CrystalSample {
   /// at its centre, from the sample as it is (confined); the end grains share the platens' present load
   /// (the mean of the two) in proportion to their projected areas on the ends, and the platens step back to bare contact. These
   /// forces then stay as they are, whatever the grains do; the platens carry the deviator alone, and
-  /// axial_stress() counts both. Call on a sample at rest, right before it is loaded.
-  void fix_confining_forces();
+  /// axial_stress() counts both. Call on a sample at rest, right before it is loaded. `end_load` (N), when
+  /// given, is each end's load instead of the platens' (bench/fixed_force_lammps: the bag's forces on a sample
+  /// as built, whose platens carry nothing yet).
+  void fix_confining_forces(double end_load = -1);
+  /// The paper's LAMMPS set-up instead of the bag (docs/model.md, "Fixed forces"): on the sample as built
+  /// (the lattice at eps0, at rest, platens just touching), each surface grain gets, at its centre,
+  /// -p0 x the vector area of its exposed faces (exposed_faces.h), end grains included, fixed from then on.
+  /// They add up to zero; the platens carry the deviator alone, and axial_stress() adds p0 back on each
+  /// end. The summary's areas are the positive parts of the vector areas per face.
+  void fix_face_forces();
   const FixedForces& fixed_forces() const { return fixed_; }
   /// Radius of sphere i (body-major index) (m): the template's times its grain's scale.
   double sphere_radius(std::size_t i) const {
     return grain_.radius() * world_.bodies().scale[i / grain_.sphere_count()];
   }
-  /// The axial stress on the face at a platen (Pa): wall_stress() plus the fixed forces on that end.
+  /// The axial stress on the face at a platen (Pa): wall_stress() plus, with fixed forces, their p0 (end_load).
   double axial_stress(std::size_t wall) const;
   /// Throws std::runtime_error when energy or wall forces are no longer finite (a blown-up run).
   void check_finite() const;

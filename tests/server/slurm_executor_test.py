@@ -33,6 +33,9 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
 from granulab_client import Client  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from debian_packages import install_missing  # noqa: E402  (tests/debian_packages.py)
+
 DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
 PACKAGES = ["slurm-wlm", "munge", "slurmrestd", "slurm-wlm-jwt-plugin"]
@@ -53,24 +56,6 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def installed(package):
-    r = subprocess.run(["dpkg-query", "-W", "-f=${Status}", package], capture_output=True, text=True)
-    return "ok installed" in r.stdout
-
-
-def install_missing():
-    missing = [p for p in PACKAGES if not installed(p)]
-    if not missing:
-        return
-    if os.geteuid() != 0:
-        raise unittest.SkipTest("Slurm packages missing and not root: " + " ".join(missing))
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    lock = ["-o", "DPkg::Lock::Timeout=600"]
-    subprocess.run(["apt-get", *lock, "update"], check=True, env=env, stdout=subprocess.DEVNULL)
-    subprocess.run(["apt-get", *lock, "install", "-y", "--no-install-recommends", *missing], check=True, env=env,
-                   stdout=subprocess.DEVNULL)
 
 
 def pid_alive(pid):
@@ -235,7 +220,7 @@ PartitionName=main Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 class SlurmExecutorTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        install_missing()
+        install_missing(PACKAGES, "Slurm")
         cls.dir = tempfile.mkdtemp(prefix="granulab_slurm_")
         os.chmod(cls.dir, 0o755)  # munged wants its socket's folders searchable by all
         cls.cluster = Cluster(os.path.join(cls.dir, "cluster"))

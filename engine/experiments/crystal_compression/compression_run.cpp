@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "engine/experiments/crystal_compression/crystal_compression.h"
 
@@ -57,7 +58,7 @@ struct CrystalCompression::Schedule {
 struct CrystalCompression::ProgressShare {
   ProgressShare(const CrystalParams& p, const CrystalSample& sample, double length) {
     const double dt = sample.world().settings().time_step;
-    const double confinement_steps = expected_confinement_steps(p);
+    const double confinement_steps = p.confinement == Confinement::face_forces ? 0 : expected_confinement_steps(p);
     for (const WorkPhase& phase : loading_phases(p, length, dt)) compression_steps += phase.steps;
     share = confinement_steps / (confinement_steps + compression_steps);
     // confine()'s progress time constant: 20 servo times of 50 contact times.
@@ -114,8 +115,19 @@ void CrystalCompression::safe_point(Run& run) const {
 
 void CrystalCompression::confine_and_begin(Run& run) {
   const auto progress = [&](double f) { return run.sink.progress(run.progress.confining(f)); };
-  run.r.confinement = granulab::confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
-  if (params_.fixed_forces) sample_.fix_confining_forces();
+  if (params_.confinement == Confinement::face_forces) {
+    // No confinement phase: the lattice is built at the pre-strain that carries p0, and the fixed forces
+    // hold it there.
+    sample_.fix_face_forces();
+    ConfinementReport& c = run.r.confinement;
+    c.converged = true;
+    c.stress_top = sample_.axial_stress(sample_.top_wall());
+    c.stress_bottom = sample_.axial_stress(sample_.bottom_wall());
+    std::tie(c.lateral_stress_x, c.lateral_stress_y) = sample_.lateral_stresses();
+  } else {
+    run.r.confinement = granulab::confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
+    if (params_.confinement == Confinement::fixed_forces) sample_.fix_confining_forces();
+  }
   // Reference state for strains, displacements and lateral strains.
   take_reference();
   run.at.compressing = true;

@@ -19,14 +19,20 @@
 
 namespace granulab {
 
+/// How the crystal is held laterally while it is loaded (docs/model.md, "Confinement", "Fixed forces").
+enum class Confinement {
+  membrane,      ///< the bag confines it, then stays on, following the surface
+  fixed_forces,  ///< the bag confines it, then its forces are fixed (CrystalSample::fix_confining_forces)
+  face_forces,   ///< no bag: the paper's LAMMPS set-up from the lattice as built (CrystalSample::fix_face_forces)
+};
+
 struct CrystalParams : CrystalSampleParams {
   double max_strain = 0.1;                                            ///< compression stops here (-)
   double rate_number = 0;                                             ///< R (-); 0: quasi_static_rate_number(p0, E)
   int curve_points = 400;                                             ///< curve rows after the start (-)
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
   std::vector<LoadSegment> program;                                   ///< empty: one compression to max_strain
-  /// After confinement by the bag, keep the bag, or fix each surface grain's force (CrystalSample).
-  bool fixed_forces = false;
+  Confinement confinement = Confinement::membrane;
 };
 
 struct CrystalRow {

@@ -183,17 +183,21 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-",
            "R = L eps_dot / sqrt(E/rho) (default: p0 / E, quasi-static to 2 %; docs/results.md)");
-  std::string confinement = p.fixed_forces ? "fixed_forces" : "membrane";
-  v.choice("confinement", confinement, {"membrane", "fixed_forces"},
-           "after the bag has confined the crystal: keep the bag, which follows the surface (membrane), or fix "
-           "the forces as the paper's LAMMPS scripts did (fixed_forces): each lateral surface grain keeps p0 x its "
-           "projected area along its face's inward normal and the end grains share the platens' p0 x cross-section, "
-           "fixed in size and direction; the platens then carry the deviator alone (the stress columns count the "
-           "ends back in)");
-  p.fixed_forces = confinement == "fixed_forces";
+  static const char* const confinements[] = {"membrane", "fixed_forces", "face_forces"};
+  std::string confinement = confinements[int(p.confinement)];
+  v.choice("confinement", confinement, {"membrane", "fixed_forces", "face_forces"},
+           "membrane: the bag confines the crystal and stays on, following the surface; fixed_forces: the bag "
+           "confines it, then each lateral surface grain keeps p0 x its projected area along its face's inward "
+           "normal and the end grains share the platens' p0 x cross-section, fixed in size and direction; "
+           "face_forces: the paper's LAMMPS set-up, no bag: from the lattice as built, each surface grain keeps "
+           "p0 x the vector area of its exposed faces, end grains included. With fixed forces the platens carry "
+           "the deviator alone (the stress columns count p0 back in; docs/model.md, \"Fixed forces\")");
+  for (int k = 0; k < 3; ++k)
+    if (confinement == confinements[k]) p.confinement = Confinement(k);
   v.require(
-      !p.fixed_forces || p.rows_z >= 2, "loading.confinement",
-      "'loading.confinement' fixed_forces needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
+      p.confinement == Confinement::membrane || p.rows_z >= 2, "loading.confinement",
+      "'loading.confinement' " + confinement +
+          " needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
   visit_program(v, p);
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000,
@@ -222,6 +226,7 @@ Headline CrystalCompressionExperiment::headline() const {
 
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
+  if (params.confinement == Confinement::face_forces) w.steps = 0, w.phases.clear();  // no confinement phase
   // The bound: loading a sample no longer than rows_z grain sizes, a program at its longest (budgets rely
   // on it); the expected phases: the crystal's own length, each segment as planned.
   w.steps += loading_steps_bound(params, params.rows_z * params.grain.size);

@@ -124,7 +124,7 @@ struct FixedForceWatch : ResultSink {
 
 TEST(FixedForces, ExactlyP0TimesAreaPerFaceAtTheStartAndConstantAfter) {
   CrystalParams p = small_crystal();
-  p.fixed_forces = true;
+  p.confinement = Confinement::fixed_forces;
   p.max_strain = 0.002;
   CrystalCompression experiment(p);
   FixedForceWatch watch;
@@ -197,7 +197,7 @@ TEST(FixedForces, AReleaseToZeroDeviatorEndsWhenThePlatenLetsGo) {
   // With fixed forces the deviator is the platens' own stress, which cannot fall below 0: the release ends
   // when the top platen has let go (or the deviator reached 0), then the program goes on.
   CrystalParams p = small_crystal();
-  p.fixed_forces = true;
+  p.confinement = Confinement::fixed_forces;
   p.program = {{Kind::to_strain, 0.002, 0}, {Kind::to_deviator, 0.0, 0}, {Kind::to_strain, 0.0025, 0}};
   CrystalCompression experiment(p);
   const CrystalResult r = experiment.run();
