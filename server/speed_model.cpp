@@ -14,12 +14,15 @@ struct TablePoint {
 };
 
 // Points by size alone (an experiment's name belongs to its folder): spheres and spheres per grain set
-// the cost of a step, whatever the experiment. This machine, 2 threads, whole runs of the examples (`bench/cost_estimates.py`, bench/README.md,
-// "Cost estimates", 2026-12-02): wall time including confinement, curve rows and snapshots.
+// the cost of a step, whatever the experiment. This machine, 2 threads, whole runs of the examples (wall time
+// including confinement, curve rows and snapshots; bench/README.md, "Cost estimates", 2026-12-02, an AVX2 VM
+// about 2x slower than the AVX-512 one of the sessions before: a server's own finished jobs rescale it).
 constexpr TablePoint kTable[] = {
-    {976, 2, 1.92e8},      // two cubes, N_e = 10
-    {23760, 216, 7.89e7},  // crystal_quick
-    {95040, 864, 9.87e7},  // the reference crystal at N_e = 4
+    {976, 2, 6.7e7},        // two cubes, N_e = 10
+    {23760, 216, 4.0e7},    // crystal_quick
+    {95040, 864, 4.6e7},    // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4)
+    {260928, 864, 7.43e7},  // fig7a_ne6
+    {841536, 864, 9.38e7},  // crystal_ref_p60
 };
 
 double distance(const RunSize& a, double spheres, double grains) {
