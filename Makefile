@@ -27,7 +27,9 @@ build: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-run: build
+# Only the two binaries it runs, not the test suite.
+run: configure
+	cmake --build $(BUILD) -j $(JOBS) --target granulabd granulab
 	BUILD=$(BUILD) clients/demo.sh
 
 bench: build

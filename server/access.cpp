@@ -1,5 +1,14 @@
 #include "server/access.h"
 
+#include <fcntl.h>
+#include <openssl/evp.h>
+#include <openssl/rand.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -13,6 +22,32 @@ namespace granulab::server {
 
 using http::error;
 using http::path_id;
+
+namespace {
+
+bool is_hash(const std::string& key) {
+  return key.size() == 7 + 64 && key.rfind("sha256:", 0) == 0 &&
+         key.find_first_not_of("0123456789abcdef", 7) == std::string::npos;
+}
+
+std::map<std::string, User> by_hash(std::map<std::string, User> tokens) {
+  std::map<std::string, User> out;
+  for (auto& [key, user] : tokens) out[is_hash(key) ? key : token_hash(key)] = std::move(user);
+  return out;
+}
+
+}  // namespace
+
+std::string token_hash(const std::string& token) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (!EVP_Digest(token.data(), token.size(), digest, &length, EVP_sha256(), nullptr))
+    throw std::runtime_error("OpenSSL could not hash a token");
+  static const char hex[] = "0123456789abcdef";
+  std::string out = "sha256:";
+  for (unsigned int i = 0; i < length; ++i) out += hex[digest[i] >> 4], out += hex[digest[i] & 15];
+  return out;
+}
 
 std::map<std::string, User> read_token_file(const std::string& path, std::string* warning) {
   std::ifstream in(path);
@@ -30,23 +65,77 @@ std::map<std::string, User> read_token_file(const std::string& path, std::string
     const std::string where = path + ":" + std::to_string(number) + ": ";
     if (!(fields >> token) || ((fields >> role) && role != "admin") || (fields >> extra))
       throw std::invalid_argument(where + "expected '<user> <token> [admin]'");
+    const std::string key = is_hash(token) ? token : token_hash(token);
     // One token names one user: a shared token would make two people one owner.
-    if (tokens.count(token))
-      throw std::invalid_argument(where + "this token is already given to '" + tokens[token].name + "'");
+    if (tokens.count(key))
+      throw std::invalid_argument(where + "this token is already given to '" + tokens[key].name + "'");
     if (!users.insert(user).second) throw std::invalid_argument(where + "user '" + user + "' already has a token");
-    tokens[token] = User{user, role == "admin"};
+    tokens[key] = User{user, role == "admin"};
   }
   if (tokens.empty()) throw std::invalid_argument("token file '" + path + "' holds no token");
   return tokens;
 }
 
+std::string add_token(const std::string& path, const std::string& user, bool admin) {
+  const bool name_ok = !user.empty() && user.size() <= 64 && user[0] != '#' &&
+                       std::all_of(user.begin(), user.end(), [](char c) {
+                         return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ||
+                                c == '@';
+                       });
+  if (!name_ok)
+    throw std::invalid_argument("user name '" + user +
+                                "': 1 to 64 letters, digits and _ - . @, not starting with #");
+  if (std::ifstream(path)) {
+    std::map<std::string, User> existing;
+    try {
+      existing = read_token_file(path);
+    } catch (const std::invalid_argument& e) {
+      // An empty file holds no token yet: adding the first one is fine. Any other problem is the file's.
+      if (std::string(e.what()).find("holds no token") == std::string::npos) throw;
+    }
+    for (const auto& [hash, holder] : existing)
+      if (holder.name == user) throw std::invalid_argument("user '" + user + "' already has a token in " + path);
+  }
+  unsigned char random[32];
+  if (RAND_bytes(random, sizeof random) != 1) throw std::runtime_error("OpenSSL could not make a random token");
+  static const char hex[] = "0123456789abcdef";
+  std::string token;
+  for (unsigned char b : random) token += hex[b >> 4], token += hex[b & 15];
+  const std::string line = user + " " + token_hash(token) + (admin ? " admin" : "") + "\n";
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  if (fd < 0) throw std::invalid_argument("cannot write token file '" + path + "': " + std::strerror(errno));
+  const bool written = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+  const bool closed = ::fsync(fd) == 0 && ::close(fd) == 0;
+  if (!written || !closed) throw std::runtime_error("could not write the token file '" + path + "' whole");
+  return token;
+}
+
+Access::Access(std::map<std::string, User> tokens, bool private_reads)
+    : tokens_(std::make_shared<const TokenMap>(by_hash(std::move(tokens)))), private_reads_(private_reads) {}
+
+void Access::replace_tokens(std::map<std::string, User> tokens) {
+  auto fresh = std::make_shared<const TokenMap>(by_hash(std::move(tokens)));
+  std::lock_guard<std::mutex> lock(mutex_);
+  tokens_ = std::move(fresh);
+}
+
 std::optional<User> Access::caller(const http::Request& req) const {
-  if (tokens_.empty()) return User{"", true};  // an open server: everyone may do everything
+  const std::shared_ptr<const TokenMap> tokens = this->tokens();
+  if (tokens->empty()) return User{"", true};  // an open server: everyone may do everything
   const std::string authorization = req.get_header_value("Authorization"), prefix = "Bearer ";
   if (authorization.rfind(prefix, 0) != 0) return std::nullopt;
-  const auto it = tokens_.find(authorization.substr(prefix.size()));
-  if (it == tokens_.end()) return std::nullopt;
+  const auto it = tokens->find(token_hash(authorization.substr(prefix.size())));
+  if (it == tokens->end()) return std::nullopt;
   return it->second;
+}
+
+bool Access::may_use_priority(const User& who, long priority, http::Response& res, const char* field) const {
+  if (priority <= 0 || who.admin) return true;
+  error(res, 403, "forbidden",
+        "a priority above 0 (the default) is for admins, so that nobody jumps the queue of others; got " +
+            std::to_string(priority) + " (0 or below is yours to choose)",
+        field);
+  return false;
 }
 
 bool Access::gate(const http::Request& req, http::Response& res) const {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -17,16 +19,29 @@ struct User {
   bool admin = false;
 };
 
-/// Reads a token file: one `<user> <token> [admin]` per line; blank lines and lines starting with # are
-/// skipped. A token or a user listed twice is an error; `warning` says so when others may read the file.
+/// How a token is kept: "sha256:" and the hex SHA-256 of its bytes. A token file, a backup of it or a
+/// glance over a shoulder does not give the token; the server compares hashes.
+std::string token_hash(const std::string& token);
+
+/// Reads a token file: one `<user> <token-or-hash> [admin]` per line (`granulabd token add` writes hashes;
+/// a plain token is hashed as it is read); blank lines and lines starting with # are skipped. A token or a
+/// user listed twice is an error; `warning` says so when others may read the file. The map is by hash.
 std::map<std::string, User> read_token_file(const std::string& path, std::string* warning = nullptr);
+
+/// Appends a new user with a fresh random token (32 bytes from OpenSSL, as 64 hex digits) to the token file,
+/// as its hash, creating the file readable by its owner only; returns the token (shown once, kept nowhere).
+/// std::invalid_argument for a bad user name or one the file already has.
+std::string add_token(const std::string& path, const std::string& user, bool admin);
 
 class Access {
  public:
   /// `tokens` empty: an open server, where everyone is an anonymous admin. `private_reads`: reading a job
   /// or listing jobs is for its owner and admins only.
-  Access(std::map<std::string, User> tokens, bool private_reads)
-      : tokens_(std::move(tokens)), private_reads_(private_reads) {}
+  /// `tokens` by token or by token_hash() (the token file's).
+  Access(std::map<std::string, User> tokens, bool private_reads);
+
+  /// A token file read again (SIGHUP): requests from now on see the new tokens; none in flight fails.
+  void replace_tokens(std::map<std::string, User> tokens);
 
   /// The holder of the request's bearer token; with tokens off, an anonymous admin; nullopt for none.
   std::optional<User> caller(const http::Request& req) const;
@@ -45,14 +60,28 @@ class Access {
                                        const char* action, bool write) const;
   /// The owner a listing is filtered by (?owner=, or the caller on a private server), or nullopt after a 403.
   std::optional<std::string> listing_owner(const http::Request& req, http::Response& res, const char* what) const;
-  bool needs_tokens() const { return !tokens_.empty(); }
-  std::size_t token_count() const { return tokens_.size(); }
+  /// False (and a 403 naming the field) when `who` asks for a priority above the default 0: jumping the
+  /// queue is for admins (everyone on an open server); lowering one's own jobs is for all.
+  bool may_use_priority(const User& who, long priority, http::Response& res, const char* field) const;
+  /// Whose succeeded jobs `who` may be handed for ?reuse=true: anyone's where reads are open, else its own.
+  std::optional<std::string> reuse_owner(const User& who) const {
+    if (who.admin || !private_reads_) return std::nullopt;
+    return who.name;
+  }
+  bool needs_tokens() const { return !tokens()->empty(); }
+  std::size_t token_count() const { return tokens()->size(); }
 
  private:
   bool may(const User& who, const std::string& owner, bool write) const {
     return who.admin || owner == who.name || (!write && !private_reads_);
   }
-  std::map<std::string, User> tokens_;
+  using TokenMap = std::map<std::string, User>;  ///< token_hash() -> holder
+  std::shared_ptr<const TokenMap> tokens() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return tokens_;
+  }
+  mutable std::mutex mutex_;
+  std::shared_ptr<const TokenMap> tokens_;
   bool private_reads_;
 };
 

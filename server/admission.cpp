@@ -30,8 +30,9 @@ std::string number(double x) {
 
 }  // namespace
 
-Admission::Admission(JobStore& store, const Executor& executor, AdmissionLimits limits)
-    : store_(store), executor_(executor), limits_(limits) {
+Admission::Admission(JobStore& store, const Executor& executor, AdmissionLimits limits,
+                     const MachineSpeed* machine_speed)
+    : store_(store), executor_(executor), limits_(limits), machine_speed_(machine_speed) {
   if (limits_.max_memory_bytes <= 0)
     limits_.max_memory_bytes = 0.5 * double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
 }
@@ -84,7 +85,8 @@ json Admission::cost_estimate(const api::Spec& spec) const {
     history.push_back({{j.experiment, number("spheres"), number("grains"), int(number("threads"))},
                        number("sphere_steps_per_second")});
   }
-  const SpeedEstimate speed = estimate_speed({experiment, w.spheres, w.grains, threads}, history);
+  const SpeedEstimate speed = estimate_speed({experiment, w.spheres, w.grains, threads}, history,
+                                             machine_speed_ ? machine_speed_->probe() : 0);
   json phases = json::array();
   for (const WorkPhase& p : w.phases) phases.push_back({{"name", p.name}, {"steps", p.steps}});
   json out = {{"dry_run", true},

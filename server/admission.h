@@ -11,6 +11,7 @@
 #include "server/access.h"
 #include "server/executor.h"
 #include "server/http/message.h"
+#include "server/machine_speed.h"
 #include "server/store/job_store.h"
 
 namespace granulab::api {
@@ -22,12 +23,13 @@ namespace granulab::server {
 struct AdmissionLimits {
   int max_queued_per_user = 1000;  ///< more queued jobs of one user get 429 (0 = no limit)
   double max_memory_bytes = 0;     ///< B, a job's estimated peak memory; 0 = half the machine's physical memory
-  double max_sphere_steps = 1e13;  ///< spheres x time steps (about 9 h at 3e8 per second)
+  double max_sphere_steps = 4e12;  ///< spheres x time steps (under 12 h at the slowest full-size speed measured, 9.4e7/s)
 };
 
 class Admission {
  public:
-  Admission(JobStore& store, const Executor& executor, AdmissionLimits limits);
+  Admission(JobStore& store, const Executor& executor, AdmissionLimits limits,
+            const MachineSpeed* machine_speed = nullptr);
 
   /// Why the job is over the per-job budget (naming the limit and the estimate), or empty.
   std::string budget_problem(const api::Spec& spec) const;
@@ -42,6 +44,7 @@ class Admission {
   JobStore& store_;
   const Executor& executor_;
   AdmissionLimits limits_;
+  const MachineSpeed* machine_speed_;
 };
 
 }  // namespace granulab::server

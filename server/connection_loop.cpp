@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <chrono>
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -85,12 +86,60 @@ void ConnectionLoop::wake() {
   [[maybe_unused]] const ssize_t n = ::write(wake_fd_, &one, sizeof one);
 }
 
+int ConnectionLoop::peer_limit() const {
+  if (options_.max_connections_per_peer > 0) return options_.max_connections_per_peer;
+  return std::max(std::min(options_.max_connections, 16), options_.max_connections / 4);
+}
+
+bool ConnectionLoop::take_peer_slot(int fd, std::string& peer) {
+  sockaddr_storage a{};
+  socklen_t length = sizeof a;
+  char text[INET6_ADDRSTRLEN] = "?";
+  if (::getpeername(fd, reinterpret_cast<sockaddr*>(&a), &length) == 0) {
+    if (a.ss_family == AF_INET)
+      ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(&a)->sin_addr, text, sizeof text);
+    else if (a.ss_family == AF_INET6)
+      ::inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(&a)->sin6_addr, text, sizeof text);
+  }
+  peer = text;
+  const int limit = peer_limit();
+  std::lock_guard<std::mutex> lock(peers_mutex_);
+  int& held = per_peer_[peer];
+  if (held >= limit) {
+    if (held == 0) per_peer_.erase(peer);
+    return false;
+  }
+  ++held;
+  peer_of_[fd] = peer;
+  return true;
+}
+
+void ConnectionLoop::release_peer_slot(int fd) {
+  std::lock_guard<std::mutex> lock(peers_mutex_);
+  const auto it = peer_of_.find(fd);
+  if (it == peer_of_.end()) return;
+  if (--per_peer_[it->second] <= 0) per_peer_.erase(it->second);
+  peer_of_.erase(it);
+}
+
 void ConnectionLoop::adopt(int fd) {
+  std::string peer;
+  if (!take_peer_slot(fd, peer)) {
+    const int limit = peer_limit();
+    const std::string text = error_response(
+        503, "too_many_connections",
+        "the address " + peer + " has " + std::to_string(limit) +
+            " open connections, the most one address may hold (max_connections_per_peer); close some or retry");
+    send_all(fd, text.data(), text.size(), 0);
+    ::close(fd);
+    return;
+  }
   if (++open_ > options_.max_connections) {
     const std::string text = error_response(
         503, "too_many_connections",
         "the server has " + std::to_string(options_.max_connections) + " open connections (max_connections); retry");
     send_all(fd, text.data(), text.size(), 0);
+    release_peer_slot(fd);
     ::close(fd);
     --open_;
     return;
@@ -103,8 +152,7 @@ void ConnectionLoop::adopt(int fd) {
   {
     std::lock_guard<std::mutex> lock(mutex_);  // with stop(): a socket is either taken in or closed, never lost
     if (stopping_) {
-      ::close(fd);
-      --open_;
+      close_connection(fd);
       return;
     }
     incoming_.push_back({fd, 0, "", "", true});
@@ -134,6 +182,7 @@ void ConnectionLoop::stop() {
 }
 
 void ConnectionLoop::close_connection(int fd) {
+  release_peer_slot(fd);  // before the close: once closed, the number may be another socket's
   ::close(fd);
   --open_;
 }

@@ -27,6 +27,10 @@ struct ConnectionOptions {
   RequestLimits limits;
   int handler_threads = 8;
   int max_connections = 512;          ///< more open connections are answered 503 and closed
+  /// One address (an IP) may hold at most this many of them (503 past it): a client re-opening every socket
+  /// it loses cannot take the slots of others. 0: a quarter of max_connections (a lab behind one NAT address
+  /// keeps room), all of them when there are at most 16.
+  int max_connections_per_peer = 0;
   int request_timeout_ms = 10000;     ///< from a request's first byte to its last
   int keep_alive_timeout_ms = 5000;   ///< idle time allowed between requests on one connection
   int keep_alive_max_requests = 100;  ///< requests per connection before it is closed
@@ -91,6 +95,10 @@ class ConnectionLoop {
   void drain(int fd, Connection& c, std::int64_t now);
   void close_connection(int fd);
   void wake();
+  /// Counts `fd` against its peer's share; false (and nothing counted) when that peer holds its limit.
+  bool take_peer_slot(int fd, std::string& peer);
+  int peer_limit() const;
+  void release_peer_slot(int fd);
 
   ConnectionOptions options_;
   Handler handler_;
@@ -99,6 +107,10 @@ class ConnectionLoop {
   int wake_fd_ = -1;
 
   std::map<int, Connection> connections_;  ///< owned by the poll thread only
+
+  std::mutex peers_mutex_;
+  std::map<std::string, int> per_peer_;  ///< open connections by peer address
+  std::map<int, std::string> peer_of_;   ///< each counted socket's peer
 
   std::mutex mutex_;
   std::vector<Handed> incoming_;

@@ -15,6 +15,7 @@ ConnectionOptions connection_options(const HttpOptions& o, WorkerSecrets& secret
   };
   connection.handler_threads = o.handler_threads;
   connection.max_connections = o.max_connections;
+  connection.max_connections_per_peer = o.max_connections_per_peer;
   connection.request_timeout_ms = o.request_timeout_ms;
   connection.keep_alive_timeout_ms = o.keep_alive_timeout_ms;
   connection.keep_alive_max_requests = o.keep_alive_max_requests;
@@ -25,7 +26,8 @@ ConnectionOptions connection_options(const HttpOptions& o, WorkerSecrets& secret
 
 HttpServer::HttpServer(JobStore& store, Executor& executor, const HttpOptions& options)
     : access_(options.tokens, options.private_reads),
-      admission_(store, executor, {options.max_queued_per_user, options.max_memory_bytes, options.max_sphere_steps}),
+      admission_(store, executor, {options.max_queued_per_user, options.max_memory_bytes, options.max_sphere_steps},
+                 options.machine_speed),
       worker_secrets_(store),
       context_{store, executor, access_, admission_, worker_secrets_, std::size_t(options.max_jobs_per_sweep)} {
   router_.set_gate([this](const http::Request& req, http::Response& res) { return access_.gate(req, res); });

@@ -25,7 +25,7 @@ class Transport;
 struct HttpOptions {
   std::size_t max_body_bytes = 1 << 20;  ///< B; larger request bodies get 413 (chunked ones too)
   int handler_threads = 8;               ///< threads answering complete requests (never engine workers)
-  /// Access tokens (token -> user). When not empty, every route but /v1/health needs
+  /// Access tokens (token or its token_hash() -> user). When not empty, every route but /v1/health needs
   /// `Authorization: Bearer <token>`, jobs record their owner, and only the owner or an admin may
   /// cancel, delete or re-prioritise a job.
   std::map<std::string, User> tokens;
@@ -34,14 +34,17 @@ struct HttpOptions {
   int max_jobs_per_sweep = 1000;   ///< a larger sweep is a 400
   /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
   double max_memory_bytes = 0;     ///< B, peak memory; 0 = half the machine's physical memory
-  double max_sphere_steps = 1e13;  ///< spheres x time steps (about 9 h at 3e8 per second)
+  double max_sphere_steps = 4e12;  ///< spheres x time steps (under 12 h at the slowest full-size speed measured, 9.4e7/s)
   /// Timeouts and connection limits (docs/api.md, "Connections").
   int request_timeout_ms = 10000;
   int keep_alive_timeout_ms = 5000;
   int keep_alive_max_requests = 100;
   int max_connections = 512;
+  int max_connections_per_peer = 0;  ///< 0: a quarter of max_connections (ConnectionOptions)
   /// B; the limit for a job's worker (its secret checked before the body is read): checkpoints, snapshots.
   std::size_t max_worker_body_bytes = std::size_t(1) << 30;
+  /// This machine's speed probe for the cost estimates (server/machine_speed.h); none: the table alone.
+  const MachineSpeed* machine_speed = nullptr;
 };
 
 class HttpServer {
@@ -58,6 +61,8 @@ class HttpServer {
   /// Serves until stop() (blocking).
   void serve();
   void stop();
+  /// The token file read again (SIGHUP): from the next request on; connections and jobs carry on.
+  void replace_tokens(std::map<std::string, User> tokens) { access_.replace_tokens(std::move(tokens)); }
 
  private:
   Access access_;

@@ -22,6 +22,8 @@
 #include "server/instance_lock.h"
 #include "server/http_server.h"
 #include "server/store/job_store.h"
+#include "server/log_format.h"
+#include "server/machine_speed.h"
 #include "server/slurm/slurm_executor.h"
 #include "server/worker_pool.h"
 
@@ -30,21 +32,28 @@ using namespace granulab::server;
 namespace {
 
 const char* kUsage =
-    "usage: granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
+    "usage: granulabd token add USER [--admin] [--token-file FILE]   (a new user's token, printed once)\n"
+    "       granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
     "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
+    "                 [--max-connections-per-peer N]\n"
     "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S] [--max-db-mb MB]\n"
+    "                 [--speed-probe-seconds S]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
-    "            --keep-alive-timeout 5 --max-connections 512\n"
-    "            --max-memory (half the physical memory, in MB) --max-sphere-steps 1e13 --checkpoint-seconds 60\n"
+    "            --keep-alive-timeout 5 --max-connections 512 --max-connections-per-peer (a quarter of them)\n"
+    "            --max-memory (half the physical memory, in MB) --max-sphere-steps 4e12 --checkpoint-seconds 60\n"
+    "            --speed-probe-seconds 0.2\n"
     "  --max-db-mb: the database file may not grow past this (default: the disk's space); past it, or on a\n"
     "               full disk, submissions answer 507 and running jobs fail with the reason\n"
     "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
     "                        from there (0: never, jobs restart from zero)\n"
+    "  --speed-probe-seconds: at start, before any job runs, step a small crystal this long to learn this\n"
+    "                         machine's speed for the dry runs' expected time (0: no probe)\n"
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
-    "  --token-file: lines '<user> <token> [admin]'; then every route but /v1/health needs\n"
-    "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it\n"
+    "  --token-file: lines '<user> <token or sha256:hash> [admin]'; then every route but /v1/health needs\n"
+    "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it;\n"
+    "                SIGHUP reads it again (jobs and connections carry on)\n"
     "  --private: reading a job is also for its owner and admins only (default: the lab reads everything)\n"
     "  --executor local|slurm: run jobs on this machine's pool (default) or as Slurm jobs (docs/cluster.md):\n"
     "      --slurm-url URL --slurm-user USER (--slurm-jwt-key FILE | SLURM_JWT in the environment)\n"
@@ -61,6 +70,7 @@ struct DaemonOptions {
   std::string host = "127.0.0.1", db = "var/granulab.db", token_file, executor_name = "local", jwt_key_file;
   slurm::ExecutorOptions slurm;
   int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
+  double speed_probe_seconds = 0.2;
   HttpOptions http;
   bool help = false;
 };
@@ -92,8 +102,11 @@ DaemonOptions parse_options(int argc, char** argv) {
     else if (a == "--max-db-mb") o.max_db_mb = parse_int_option(a, v, 1, 100000000);
     else if (a == "--checkpoint-seconds") o.checkpoint_seconds = parse_int_option(a, v, 0, 86400);
     else if (a == "--max-connections") o.http.max_connections = parse_int_option(a, v, 1, 100000);
+    else if (a == "--max-connections-per-peer")
+      o.http.max_connections_per_peer = parse_int_option(a, v, 1, 100000);
     else if (a == "--max-memory") o.http.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
     else if (a == "--max-sphere-steps") o.http.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
+    else if (a == "--speed-probe-seconds") o.speed_probe_seconds = parse_number_option(a, v, 0, 60);
     else if (a == "--executor") o.executor_name = v;
     else if (a == "--slurm-url") o.slurm.rest.url = v;
     else if (a == "--slurm-user") o.slurm.rest.user = v;
@@ -107,6 +120,61 @@ DaemonOptions parse_options(int argc, char** argv) {
     else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
   }
   return o;
+}
+
+// SIGHUP: the token file read again, so that a colleague added with `granulabd token add` can work
+// without a restart; a file that does not read keeps the tokens as they were.
+void reload_tokens(HttpServer& http, const std::string& token_file) {
+  if (token_file.empty()) {
+    spdlog::info("SIGHUP: no --token-file to read again; nothing changes");
+    return;
+  }
+  try {
+    std::string warning;
+    auto tokens = read_token_file(token_file, &warning);
+    if (!warning.empty()) spdlog::warn("{}", warning);
+    const std::size_t n = tokens.size();
+    http.replace_tokens(std::move(tokens));
+    spdlog::info("SIGHUP: read {} token(s) from {}", n, token_file);
+  } catch (const std::exception& e) {
+    spdlog::error("SIGHUP: {}; the tokens stay as they were", e.what());
+  }
+}
+
+// `granulabd token add USER [--admin] [--token-file FILE]`: exit status 0 and the token on stdout.
+int token_command(int argc, char** argv) {
+  const std::string usage =
+      "usage: granulabd token add USER [--admin] [--token-file FILE (default var/tokens)]\n"
+      "  appends USER with a new random token, stored as its hash, and prints the token once;\n"
+      "  a running granulabd --token-file FILE reads it on SIGHUP (kill -HUP <pid>)\n";
+  if (argc < 4 || std::string(argv[2]) != "add") {
+    std::cerr << usage;
+    return 2;
+  }
+  std::string user = argv[3], file = "var/tokens";
+  bool admin = false;
+  for (int i = 4; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--admin") admin = true;
+    else if (a == "--token-file" && i + 1 < argc) file = argv[++i];
+    else {
+      std::cerr << "unknown option '" << a << "'\n" << usage;
+      return 2;
+    }
+  }
+  try {
+    if (std::filesystem::path(file).has_parent_path())
+      std::filesystem::create_directories(std::filesystem::path(file).parent_path());
+    const std::string token = add_token(file, user, admin);
+    std::cout << token << "\n";
+    std::cerr << "added " << (admin ? "admin " : "") << "user '" << user << "' to " << file
+              << " (as the token's hash: this is the only time the token is shown). A running granulabd\n"
+              << "--token-file " << file << " takes it on SIGHUP; the user sets GRANULAB_TOKEN to it.\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "granulabd token add: " << e.what() << "\n";
+    return 2;
+  }
 }
 
 // The executor --executor names, with `threads` per job: this machine's pool, or a Slurm cluster (then
@@ -139,9 +207,10 @@ std::unique_ptr<Executor> make_executor(DaemonOptions& o, int threads, JobStore&
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "token") return token_command(argc, argv);
   granulab::api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
-  spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");
+  spdlog::set_formatter(std::make_unique<PrintableFormatter>("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v"));
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   try {
     DaemonOptions o = parse_options(argc, argv);
@@ -152,14 +221,20 @@ int main(int argc, char** argv) {
     const std::string &host = o.host, &db = o.db, &token_file = o.token_file, &executor_name = o.executor_name;
     slurm::ExecutorOptions& slurm_options = o.slurm;
     HttpOptions& options = o.http;
-    const int port = o.port, workers = o.workers, max_db_mb = o.max_db_mb;
+    const int port = o.port, max_db_mb = o.max_db_mb;
+    int workers = o.workers;
     int threads = o.threads;
     if (executor_name != "local" && executor_name != "slurm")
       throw std::invalid_argument("--executor must be local or slurm, got '" + executor_name + "'");
     const bool on_slurm = executor_name == "slurm";
     if (on_slurm && (slurm_options.rest.url.empty() || slurm_options.rest.user.empty()))
       throw std::invalid_argument("--executor slurm needs --slurm-url URL and --slurm-user USER");
-    // Workers x engine threads never exceed the cores.
+    // Workers x engine threads never exceed the cores: a worker runs at least one thread.
+    if (!on_slurm && workers > cores) {
+      spdlog::warn("--workers {} on {} cores would run {} engine threads at once: using {} workers", workers, cores,
+                   workers, cores);
+      workers = o.workers = cores;
+    }
     const int fair = std::max(1, cores / workers);
     if (threads == 0) threads = fair;
     if (threads > fair) {
@@ -173,6 +248,7 @@ int main(int argc, char** argv) {
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     if (db != ":memory:" && std::filesystem::path(db).has_parent_path()) {
@@ -196,6 +272,13 @@ int main(int argc, char** argv) {
       options.tokens = read_token_file(token_file, &warning);
       if (!warning.empty()) spdlog::warn("{}", warning);
     }
+    const bool loopback = host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+    if (!loopback && !options.tokens.empty())
+      spdlog::warn("listening on {} beyond loopback with access tokens but without TLS: the tokens cross the network "
+                   "in clear; put the daemon behind a TLS proxy, or keep it on loopback",
+                   host);
+    MachineSpeed machine_speed(o.speed_probe_seconds);
+    options.machine_speed = &machine_speed;
     HttpServer http(store, pool, options);
     for (auto group : {mount_meta_routes, mount_job_routes, mount_sweep_routes, mount_picture_routes,
                        mount_export_routes, mount_web_routes, mount_worker_routes})
@@ -223,12 +306,20 @@ int main(int argc, char** argv) {
       spdlog::info("jobs run on the Slurm cluster at {}: {}; its nodes reach this daemon at {}", slurm_options.rest.url,
                    cluster->cluster(), cluster->public_url());
     }
-    pool.start();
+    // The probe first, alone on the cores, then the jobs; the HTTP server answers meanwhile.
+    std::thread starter([&] {
+      machine_speed.measure();
+      pool.start();
+    });
     std::thread signal_waiter([&] {
-      int sig = 0;
-      sigwait(&signals, &sig);
-      spdlog::info("signal {}: stopping", sig);
-      http.stop();
+      for (int sig = 0; sigwait(&signals, &sig) == 0;) {
+        if (sig != SIGHUP) {
+          spdlog::info("signal {}: stopping", sig);
+          http.stop();
+          return;
+        }
+        reload_tokens(http, token_file);
+      }
     });
     spdlog::info(
         "granulabd listening on http://{}:{} (db {}, {}, {}); the web page is "
@@ -238,6 +329,7 @@ int main(int argc, char** argv) {
                  : std::to_string(workers) + " worker(s) x " + std::to_string(threads) + " thread(s)",
         options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
     http.serve();
+    starter.join();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.
     try {

@@ -12,6 +12,10 @@
 
 namespace granulab::server {
 
+/// B; cpp-httplib (a compiled Debian library, its limits fixed) answers 400 to a header line of 8,192 bytes
+/// or more with its CRLF: the reader refuses a line over this first, with a 431 that names the limit.
+constexpr std::size_t kMaxHeaderLineBytes = 8000;
+
 struct RequestLimits {
   std::size_t max_head_bytes = 16 * 1024;  ///< request line + headers
   std::size_t max_body_bytes = 1 << 20;    ///< the body after chunked decoding

@@ -14,16 +14,19 @@ struct TablePoint {
 };
 
 // Points by size alone (an experiment's name belongs to its folder): spheres and spheres per grain set
-// the cost of a step, whatever the experiment. This machine, 2 threads, whole runs of the examples (wall time
-// including confinement, curve rows and snapshots; bench/README.md, "Cost estimates", 2026-12-02, an AVX2 VM
-// about 2x slower than the AVX-512 one of the sessions before: a server's own finished jobs rescale it).
+// the cost of a step, whatever the experiment. Whole runs of the examples on 2 threads, one at a time (wall
+// time including confinement, curve rows and snapshots; bench/README.md, "Cost estimates", 2026-12-02, an
+// AVX-512 VM). A server on another machine scales them by its speed probe, then by its own finished jobs.
 constexpr TablePoint kTable[] = {
-    {976, 2, 6.7e7},        // two cubes, N_e = 10
-    {23760, 216, 4.0e7},    // crystal_quick
-    {95040, 864, 4.6e7},    // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4)
-    {260928, 864, 7.43e7},  // fig7a_ne6
-    {841536, 864, 9.38e7},  // crystal_ref_p60
+    {976, 2, 1.72e8},       // two cubes, N_e = 10 (two runs: 1.51e8, 1.95e8)
+    {23760, 216, 9.15e7},   // crystal_quick (8.54e7, 9.81e7)
+    {95040, 864, 1.07e8},   // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4: 0.96-1.15e8)
+    {260928, 864, 2.30e8},  // fig7a_ne6
+    {841536, 864, 4.38e8},  // crystal_ref_p60 (252,279 steps in 485 s)
 };
+
+// The speed probe (engine/crystal/speed_probe.h) on 2 threads on the machine of the table (1/s).
+constexpr double kTableMachineProbe = 9.3e7;  // the median of 9 daemon starts there (7.4-9.8e7)
 
 double distance(const RunSize& a, double spheres, double grains) {
   const double per_grain_a = a.spheres / std::max(1.0, a.grains), per_grain_b = spheres / std::max(1.0, grains);
@@ -55,7 +58,9 @@ double benchmark_speed(const RunSize& job) {
   return std::exp(log_rate) * std::pow(std::max(1, job.threads) / 2.0, 0.85);
 }
 
-SpeedEstimate estimate_speed(const RunSize& job, const std::vector<MeasuredRun>& history) {
+double table_machine_probe() { return kTableMachineProbe; }
+
+SpeedEstimate estimate_speed(const RunSize& job, const std::vector<MeasuredRun>& history, double probe) {
   const double table = benchmark_speed(job);
   struct Near {
     double distance, ratio;
@@ -70,7 +75,13 @@ SpeedEstimate estimate_speed(const RunSize& job, const std::vector<MeasuredRun>&
         .push_back({d, run.sphere_steps_per_second / benchmark_speed(run.size)});
   }
   std::vector<Near>& use = same.empty() ? other : same;
-  if (use.empty()) return {table, "this machine's benchmark table (bench/README.md); no finished jobs here yet"};
+  if (use.empty() && probe > 0) {
+    const double factor = probe / kTableMachineProbe;
+    return {table * factor, "the benchmark table (bench/README.md) times " + text("%.2f", factor) +
+                                ", how this machine ran the speed probe at start (" + text("%.3g", probe) +
+                                " sphere-steps/s) against the table's machine; no finished jobs here yet"};
+  }
+  if (use.empty()) return {table, "the benchmark table (bench/README.md); no finished jobs here yet, no speed probe"};
   std::sort(use.begin(), use.end(), [](const Near& a, const Near& b) { return a.distance < b.distance; });
   use.resize(std::min<std::size_t>(5, use.size()));
   std::vector<double> ratios;

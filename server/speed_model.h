@@ -2,7 +2,8 @@
 // (docs/api.md, "Cost estimates"). The cost of a sphere-step depends on the run's size and grain (a small
 // crystal pays a per-step overhead, coarse grains have more contacts per sphere) and on the machine, so
 // the estimate is this machine's benchmark table (bench/README.md, "Cost estimates") at the job's size,
-// scaled by how this server's own finished jobs of the most similar sizes ran against the same table.
+// scaled by how this server's own finished jobs of the most similar sizes ran against the same table, or,
+// before any has finished, by how this machine ran the speed probe at start against the table's machine.
 #pragma once
 
 #include <string>
@@ -32,8 +33,13 @@ struct SpeedEstimate {
 /// (threads / 2)^0.85 since the table ran on 2 threads.
 double benchmark_speed(const RunSize& job);
 
+/// The speed probe (engine/crystal/speed_probe.h, 2 threads) on the machine the table was measured on (1/s).
+double table_machine_probe();
+
 /// The table's speed at `job`'s size times the median of measured / table over the (at most 5) runs of
-/// `history` nearest to it (same experiment first). Pure, so that it can be checked without a server.
-SpeedEstimate estimate_speed(const RunSize& job, const std::vector<MeasuredRun>& history);
+/// `history` nearest to it (same experiment first). Without history, the table times this machine's
+/// `probe` (its speed probe on 2 threads, 1/s) over table_machine_probe(), or the table alone when `probe`
+/// is 0 (not measured). Pure, so that it can be checked without a server.
+SpeedEstimate estimate_speed(const RunSize& job, const std::vector<MeasuredRun>& history, double probe = 0);
 
 }  // namespace granulab::server

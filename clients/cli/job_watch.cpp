@@ -131,7 +131,7 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, &previous);
   const bool tty = isatty(STDERR_FILENO);
-  std::map<std::string, std::string> shown;  // id -> the last line printed (logs print changes only)
+  std::map<std::string, std::string> shown;  // id -> status and tenths of progress last printed (logs)
   std::map<std::string, json> last;
   std::size_t drawn = 0;
   auto last_log = std::chrono::steady_clock::now();
@@ -151,12 +151,22 @@ int watch_jobs(const JsonGetter& get, const std::vector<std::string>& ids) {
       for (const std::string& l : lines) std::fprintf(stderr, "\r\033[K%s\n", l.c_str());
       drawn = lines.size();
     } else {
-      // A log: a job's line when its status changes, and every job's every 60 s.
-      const bool periodic = std::chrono::steady_clock::now() - last_log > std::chrono::seconds(60);
+      // A log (a file, a pipe, a batch system's output): a job's line when its status changes or its progress
+      // passes another tenth, and every job's every 30 s; each line flushed as it is written, so that
+      // `tail -f` follows the run rather than what a buffer let through.
+      const bool periodic = std::chrono::steady_clock::now() - last_log > std::chrono::seconds(30);
       for (std::size_t k = 0; k < ids.size(); ++k) {
-        const std::string status = last[ids[k]].value("status", "");
-        if (shown[ids[k]] != status || periodic) std::fprintf(stderr, "%s\n", lines[k].c_str()), shown[ids[k]] = status;
+        const json& j = last[ids[k]];
+        const std::string mark = j.value("status", "") + " " +
+                                 std::to_string(int(10 * (j.contains("progress") && j["progress"].is_number()
+                                                              ? j["progress"].get<double>()
+                                                              : 0.0)));
+        if (shown[ids[k]] != mark || periodic) {
+          std::fprintf(stderr, "%s\n", lines[k].c_str());
+          shown[ids[k]] = mark;
+        }
       }
+      std::fflush(stderr);
       if (periodic) last_log = std::chrono::steady_clock::now();
     }
     if (all_done) break;

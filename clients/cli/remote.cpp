@@ -66,6 +66,8 @@ Args parse(int argc, char** argv) {
     else throw std::invalid_argument("unexpected argument '" + s + "'");
   }
   if (!a.targets.empty()) a.target = a.targets.front();
+  // http://host:8080/ is the same server as http://host:8080 (cpp-httplib takes no path in its address).
+  while (a.server.size() > 1 && a.server.back() == '/') a.server.pop_back();
   return a;
 }
 
@@ -93,13 +95,38 @@ std::string need_id(const Args& a) {
   return a.target;
 }
 
+// A spec file, or standard input for "-" (`... | granulab submit -`).
 std::string read_spec(const std::string& file, const char* command) {
-  if (file.empty()) throw std::invalid_argument(std::string("'") + command + "' needs a spec file");
+  if (file.empty()) throw std::invalid_argument(std::string("'") + command + "' needs a spec file (or - for stdin)");
+  std::stringstream spec;
+  if (file == "-") {
+    spec << std::cin.rdbuf();
+    return spec.str();
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw std::invalid_argument("cannot read spec file '" + file + "'");
-  std::stringstream spec;
   spec << in.rdbuf();
   return spec.str();
+}
+
+// One job as a person reads it: `granulab status ID` without --json.
+std::string human_status(const json& j) {
+  const auto text = [&](const char* key) { return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : ""; };
+  char line[400];
+  std::snprintf(line, sizeof line, "job %lld  %s  %.1f %%  %s%s%s\n", j.value("id", 0LL), text("status").c_str(),
+                100 * j.value("progress", 0.0), text("experiment").c_str(), text("label").empty() ? "" : "  ",
+                text("label").c_str());
+  std::string out = line;
+  if (!text("owner").empty()) out += "  owner: " + text("owner") + "\n";
+  if (!text("error").empty()) out += "  error: " + text("error") + "\n";
+  if (j.contains("summary") && j["summary"].is_object()) {
+    const json& s = j["summary"];
+    std::snprintf(line, sizeof line, "  %.0f steps in %.1f s\n", s.value("steps", 0.0), s.value("wall_seconds", 0.0));
+    out += line;
+  }
+  for (const json& w : j.value("warnings", json::array()))
+    if (w.is_string()) out += "  warning: " + w.get<std::string>() + "\n";
+  return out;
 }
 
 // --vary KEY=V1,V2,...: each value as JSON when it is JSON (10e3, true, "x"), as text otherwise.
@@ -234,22 +261,31 @@ int run_remote(int argc, char** argv) {
     return 0;
   }
   if (a.command == "sweep") return run_sweep(http, a);
+  // Each prints a line for a person, or with --json the server's answer as it is, for scripts.
   if (a.command == "status") {
-    std::cout << json::parse(call(http, a.server, "GET", "/v1/jobs/" + need_id(a))).dump(2) << "\n";
+    const json job = json::parse(call(http, a.server, "GET", "/v1/jobs/" + need_id(a)));
+    std::cout << (a.json_out ? job.dump(2) + "\n" : human_status(job));
     return 0;
   }
-  if (a.command == "cancel") {
-    std::cout << call(http, a.server, "POST", "/v1/jobs/" + need_id(a) + "/cancel");
-    return 0;
-  }
-  if (a.command == "delete") {
-    std::cout << call(http, a.server, "DELETE", "/v1/jobs/" + need_id(a));
-    return 0;
-  }
-  if (a.command == "priority") {
-    if (!a.priority_given) throw std::invalid_argument("'priority' needs --priority N");
-    std::cout << call(http, a.server, "POST",
-                      "/v1/jobs/" + need_id(a) + "/priority?value=" + std::to_string(a.priority));
+  if (a.command == "cancel" || a.command == "delete" || a.command == "priority") {
+    const std::string id = need_id(a);
+    if (a.command == "priority" && !a.priority_given) throw std::invalid_argument("'priority' needs --priority N");
+    const std::string reply =
+        a.command == "cancel"   ? call(http, a.server, "POST", "/v1/jobs/" + id + "/cancel")
+        : a.command == "delete" ? call(http, a.server, "DELETE", "/v1/jobs/" + id)
+                                : call(http, a.server, "POST",
+                                       "/v1/jobs/" + id + "/priority?value=" + std::to_string(a.priority));
+    if (a.json_out) {
+      std::cout << reply << (reply.empty() || reply.back() != '\n' ? "\n" : "");
+      return 0;
+    }
+    const json answer = json::parse(reply, nullptr, false);
+    const std::string status = answer.is_object() && answer.contains("status") && answer["status"].is_string()
+                                   ? answer["status"].get<std::string>()
+                                   : "";
+    if (a.command == "cancel") std::cout << "job " << id << ": " << (status.empty() ? "cancel asked" : status) << "\n";
+    else if (a.command == "delete") std::cout << "job " << id << " deleted\n";
+    else std::cout << "job " << id << ": priority " << a.priority << "\n";
     return 0;
   }
   if (a.command == "list") {
@@ -257,11 +293,18 @@ int run_remote(int argc, char** argv) {
     if (!a.status.empty()) path += "&status=" + httplib::detail::encode_query_param(a.status);
     if (!a.owner.empty()) path += "&owner=" + httplib::detail::encode_query_param(a.owner);
     const json list = json::parse(call(http, a.server, "GET", path));  // named: a temporary would dangle
-    for (const json& j : list["jobs"])
-      std::printf("%6lld  %-10s %5.1f %%  %-20s %s%s\n", j["id"].get<long long>(),
+    if (a.json_out) {
+      std::cout << list.dump(2) << "\n";
+      return 0;
+    }
+    for (const json& j : list["jobs"]) {
+      const std::string owner = j.contains("owner") && j["owner"].is_string() ? j["owner"].get<std::string>() : "";
+      std::printf("%6lld  %-10s %5.1f %%  %-12s %-20s %s%s\n", j["id"].get<long long>(),
                   j["status"].get<std::string>().c_str(), 100 * j["progress"].get<double>(),
-                  j["experiment"].get<std::string>().c_str(), j["label"].get<std::string>().c_str(),
+                  owner.empty() ? "-" : owner.c_str(), j["experiment"].get<std::string>().c_str(),
+                  j["label"].get<std::string>().c_str(),
                   j.contains("warnings") ? ("  (" + std::to_string(j["warnings"].size()) + " warnings)").c_str() : "");
+    }
     return 0;
   }
   if (a.command == "wait") {
@@ -276,8 +319,9 @@ int run_remote(int argc, char** argv) {
     const std::string id = need_id(a);
     if (a.out.empty()) throw std::invalid_argument("'results' needs --out DIR");
     const fs::path out(a.out);
-    fs::create_directories(out / "snapshots");
+    // The job first: an unknown id or a refused read leaves no empty folder behind.
     const json job = json::parse(call(http, a.server, "GET", "/v1/jobs/" + id));
+    fs::create_directories(out / "snapshots");
     save(out / "curve.csv", call(http, a.server, "GET", "/v1/jobs/" + id + "/curve?format=csv"));
     // A job that has not succeeded has no summary: its rows and snapshots so far are still worth having.
     const bool finished = job.contains("summary");

@@ -20,6 +20,11 @@ void Router::del(const std::string& pattern, std::vector<std::string> params, Ha
   add("DELETE", pattern, std::move(params), std::move(handler));
 }
 
+void Router::file(const std::string& path, Handler handler) {
+  add("GET", path, {}, std::move(handler));
+  routes_.back().any_query = true;
+}
+
 void Router::dispatch(Request& req, Response& res) const {
   if (gate_ && gate_(req, res)) return;
   const std::string& method = req.method == "HEAD" ? std::string("GET") : req.method;
@@ -29,6 +34,7 @@ void Router::dispatch(Request& req, Response& res) const {
     req.matches.assign(match.begin(), match.end());
     // Only the query parameters a route knows: `?resue=true` is a typo to report, not to ignore.
     for (const auto& [name, value] : req.query) {
+      if (route.any_query) break;
       if (std::find(route.params.begin(), route.params.end(), name) != route.params.end()) continue;
       std::string list;
       for (const std::string& k : route.params) list += (list.empty() ? "" : ", ") + k;

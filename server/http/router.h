@@ -20,6 +20,7 @@ class Router {
     std::vector<std::string> params;  ///< the query parameters it takes; any other is a 400 naming it
     Handler handler;
     std::regex regex;
+    bool any_query = false;  ///< a file: a browser's cache-busting `?v=2` is not a typo
   };
   /// Answers a request before any route (the access rule): true when it answered.
   using Gate = std::function<bool(const Request&, Response&)>;
@@ -27,6 +28,8 @@ class Router {
   void get(const std::string& pattern, std::vector<std::string> params, Handler handler);
   void post(const std::string& pattern, std::vector<std::string> params, Handler handler);
   void del(const std::string& pattern, std::vector<std::string> params, Handler handler);
+  /// A GET of a static file, which takes any query parameters and ignores them.
+  void file(const std::string& path, Handler handler);
   void set_gate(Gate gate) { gate_ = std::move(gate); }
 
   /// The gate, then the first route whose method and pattern match (HEAD as GET): fills req.matches,

@@ -24,6 +24,7 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    if (!c.access.may_use_priority(c.access.who(req), priority, res, "priority")) return;
     // A dry run: the spec is valid; what it would cost here, and nothing queued.
     const std::string dry_run = req.has_param("dry_run") ? req.get_param_value("dry_run") : "false";
     if (dry_run != "true" && dry_run != "false")
@@ -35,11 +36,11 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     const std::string reuse = req.has_param("reuse") ? req.get_param_value("reuse") : "false";
     if (reuse != "true" && reuse != "false")
       return error(res, 400, "invalid_value", "'reuse' must be true or false, got '" + reuse + "'", "reuse");
+    const User who = c.access.who(req);
     if (reuse == "true") {
-      if (const auto id = c.store.find_succeeded(hash, api::engine_version()))
+      if (const auto id = c.store.find_succeeded(hash, api::engine_version(), c.access.reuse_owner(who)))
         return reply(res, 200, {{"id", *id}, {"status", api::status_name(JobStatus::succeeded)}, {"reused", true}});
     }
-    const User who = c.access.who(req);
     if (!c.admission.within_queue_quota(who, 1, res)) return;
     const std::int64_t id = c.store.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
                                            who.name, int(priority));
@@ -93,6 +94,7 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     if (!req.has_param("value"))
       return error(res, 400, "missing", "'value' (the new priority, -100 to 100) is required", "value");
     if (!query_int(req, res, "value", -100, 100, priority)) return;
+    if (!c.access.may_use_priority(c.access.who(req), priority, res, "value")) return;
     switch (c.store.set_priority(job->id, int(priority))) {
       case JobStore::WriteResult::done: return reply(res, 200, {{"id", job->id}, {"priority", priority}});
       case JobStore::WriteResult::not_found: return error(res, 404, "not_found", "no job " + std::to_string(job->id));

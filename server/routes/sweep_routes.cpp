@@ -25,6 +25,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     }
     long priority = 0;
     if (!query_int(req, res, "priority", -100, 100, priority)) return;
+    if (!c.access.may_use_priority(c.access.who(req), priority, res, "priority")) return;
     // Over budget: which point, by its values.
     for (const api::SweepPoint& p : sweep.points)
       if (const std::string problem = c.admission.budget_problem(p.spec); !problem.empty())

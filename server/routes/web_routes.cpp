@@ -27,9 +27,9 @@ void mount_web_routes(Router& router, const RouteContext&) {
       res.set_header("Cache-Control", "no-cache");
     };
   };
-  router.get("/", {}, file("server/web/index.html", "text/html; charset=utf-8"));
-  router.get("/web/app.js", {}, file("server/web/app.js", "text/javascript; charset=utf-8"));
-  router.get("/web/style.css", {}, file("server/web/style.css", "text/css; charset=utf-8"));
+  router.file("/", file("server/web/index.html", "text/html; charset=utf-8"));
+  router.file("/web/app\\.js", file("server/web/app.js", "text/javascript; charset=utf-8"));
+  router.file("/web/style\\.css", file("server/web/style.css", "text/css; charset=utf-8"));
 
   // The specs of examples/ (the paper's experiments), by name: what the submit form is prefilled from. The
   // cheapest first (expected sphere-steps), so that the form's first choice is a quick run, not hours.

@@ -12,6 +12,12 @@ inline constexpr const char* kJobColumns =
     "priority, progress, eta_seconds, created_ms, started_ms, finished_ms, cancel_requested, sweep_id, sweep_values, "
     "slurm_job_id, slurm_state, slurm_attempts";
 
+// The same for listings, which never show a spec: its text (up to a request body, each) is not read at all.
+inline constexpr const char* kJobListColumns =
+    "id, status, label, experiment, '' AS spec_json, spec_hash, engine_version, owner, error, summary_json, "
+    "priority, progress, eta_seconds, created_ms, started_ms, finished_ms, cancel_requested, sweep_id, sweep_values, "
+    "slurm_job_id, slurm_state, slurm_attempts";
+
 inline JobRecord read_job(const sqlite::Statement& st) {
   JobRecord r;
   r.id = st.column_int64(0);

@@ -53,9 +53,15 @@ std::optional<JobRecord> JobStore::claim_next(int max_running_per_owner) {
   std::int64_t id = 0;
   {
     // The best queued job whose owner is under the running quota; an owner at the quota waits, others pass.
+    // Fair share within a priority: the owner with the fewest jobs running goes first, then the one whose
+    // last job started longest ago (never: first), then the oldest job, so that one user's hundred queued
+    // jobs take turns with another's first rather than run before it.
     Statement pick(*db_,
                    "SELECT id FROM jobs AS q WHERE status = 'queued' AND (?1 <= 0 OR (SELECT count(*) FROM jobs AS r "
-                   "WHERE r.status = 'running' AND r.owner = q.owner) < ?1) ORDER BY priority DESC, id ASC LIMIT 1");
+                   "WHERE r.owner = q.owner AND r.status = 'running') < ?1) ORDER BY priority DESC, "
+                   "(SELECT count(*) FROM jobs AS r WHERE r.owner = q.owner AND r.status = 'running') ASC, "
+                   "(SELECT coalesce(max(s.started_ms), 0) FROM jobs AS s WHERE s.owner = q.owner) ASC, id ASC "
+                   "LIMIT 1");
     pick.bind(1, max_running_per_owner);
     if (!pick.step()) return std::nullopt;
     id = pick.column_int64(0);
@@ -196,7 +202,7 @@ std::optional<JobRecord> JobStore::get_locked(std::int64_t id) {
 std::vector<JobRecord> JobStore::list(std::optional<JobStatus> status_filter, int limit, std::int64_t offset,
                                       const std::string& owner_filter) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement st(*db_, std::string("SELECT ") + kJobColumns +
+  Statement st(*db_, std::string("SELECT ") + kJobListColumns +
                          " FROM jobs WHERE (?1 = '' OR status = ?1) AND (?4 = '' OR owner = ?4)"
                          " ORDER BY id DESC LIMIT ?2 OFFSET ?3");
   st.bind(1, status_filter ? api::status_name(*status_filter) : "")
@@ -215,13 +221,14 @@ std::size_t JobStore::count(std::optional<JobStatus> status, const std::string& 
   return st.step() ? static_cast<std::size_t>(st.column_int64(0)) : 0;
 }
 
-std::optional<std::int64_t> JobStore::find_succeeded(const std::string& spec_hash, const std::string& engine_version) {
+std::optional<std::int64_t> JobStore::find_succeeded(const std::string& spec_hash, const std::string& engine_version,
+                                                     const std::optional<std::string>& owner) {
   if (spec_hash.empty()) return std::nullopt;
   std::lock_guard<std::mutex> lock(mutex_);
   Statement st(*db_,
                "SELECT id FROM jobs WHERE spec_hash = ?1 AND engine_version = ?2 AND status = 'succeeded' "
-               "ORDER BY id DESC LIMIT 1");
-  st.bind(1, spec_hash).bind(2, engine_version);
+               "AND (?3 = 0 OR owner = ?4) ORDER BY id DESC LIMIT 1");
+  st.bind(1, spec_hash).bind(2, engine_version).bind(3, owner ? 1 : 0).bind(4, owner.value_or(""));
   if (!st.step()) return std::nullopt;
   return st.column_int64(0);
 }

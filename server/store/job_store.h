@@ -92,8 +92,10 @@ class JobStore {
                       const std::string& spec_hash, const std::string& engine_version, const std::string& owner,
                       int priority);
 
-  /// Atomically takes the queued job with the highest priority (oldest first within a priority), marks it
-  /// running with started_ms = now and returns it as it now is; nullopt when the queue is empty.
+  /// Atomically takes the queued job with the highest priority (within a priority: fair share between
+  /// owners, the one with the fewest running first, then the one whose last job started longest ago, then
+  /// the oldest job), marks it running with started_ms = now and returns it as it now is; nullopt when the
+  /// queue is empty.
   /// `max_running_per_owner` > 0: skips jobs whose owner already has that many running.
   std::optional<JobRecord> claim_next(int max_running_per_owner = 0);
 
@@ -133,7 +135,8 @@ class JobStore {
   std::vector<SweepRecord> list_sweeps(int limit, std::int64_t offset, const std::string& owner_filter = "");
   /// The sweep's jobs, in the order of its points.
   std::vector<JobRecord> sweep_jobs(std::int64_t sweep_id);
-  /// Newest first. `status_filter` nullopt / `owner_filter` empty = any; `limit` < 0 = no limit.
+  /// Newest first. `status_filter` nullopt / `owner_filter` empty = any; `limit` < 0 = no limit. The
+  /// records have no spec_json (a listing shows none; get() has it).
   std::vector<JobRecord> list(std::optional<JobStatus> status_filter, int limit, std::int64_t offset,
                               const std::string& owner_filter = "");
   /// Jobs in `status` (nullopt = all jobs), of `owner` when not empty.
@@ -185,7 +188,9 @@ class JobStore {
 
   /// The newest succeeded job with this spec hash and engine version (for ?reuse=true); an empty hash
   /// never matches.
-  std::optional<std::int64_t> find_succeeded(const std::string& spec_hash, const std::string& engine_version);
+  /// With `owner`, only that owner's jobs (a private server must not tell one user of another's specs).
+  std::optional<std::int64_t> find_succeeded(const std::string& spec_hash, const std::string& engine_version,
+                                             const std::optional<std::string>& owner = std::nullopt);
 
   /// Daemon start-up: every job left running by a previous process goes back to the queue (progress 0,
   /// started_ms 0, cancel_requested cleared, its partial curve and snapshots dropped unless a checkpoint

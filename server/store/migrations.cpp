@@ -122,6 +122,11 @@ CREATE INDEX jobs_on_cluster ON jobs (slurm_done, slurm_job_id);
     R"sql(
 ALTER TABLE curve_rows ADD COLUMN row_values TEXT NOT NULL DEFAULT '';
 )sql",
+    // 7: the fair queue (JobStore::claim_next) asks, per queued owner, how many of theirs run and when
+    // theirs last started.
+    R"sql(
+CREATE INDEX jobs_by_owner ON jobs (owner, status, started_ms);
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

@@ -4,8 +4,9 @@
 one after another; each is dry-run just before it runs.
 
 - steps: every job's expected steps within 30 % of the steps it took (they come from the spec alone);
-- time: every job whose estimate rests on a finished job of the same experiment on this server (the second
-  two-cube job, the crystals after the first) within 30 % of its wall time.
+- time: the first job (crystal_quick), whose estimate rests on the benchmark table and this machine's speed
+  probe alone, and every job whose estimate rests on a finished job of the same experiment on this server
+  (the second two-cube job, the crystals after the first), within 30 % of its wall time.
 
 Run serially (ctest RUN_SERIAL): the wall times are what is measured. About a minute on 2 cores.
 Standard library only. The daemon binary comes from $GRANULABD (set by CTest) or build/granulabd.
@@ -49,8 +50,8 @@ def jobs():
     cycles = copy.deepcopy(quick)
     cycles["loading"]["program"] = [{"to_strain": 0.005}, {"to_deviator": 0}, {"to_strain": 0.01}, {"to_deviator": 0}]
     cycles["output"]["snapshot_strains"] = []
-    return [("two_cube_f0", example("two_cube_f0")), ("two_cube_f03", example("two_cube_f03")),
-            ("crystal_quick", quick), ("crystal_quick at 60 kPa (tutorial)", at(60e3)),
+    return [("crystal_quick", quick), ("two_cube_f0", example("two_cube_f0")), ("two_cube_f03", example("two_cube_f03")),
+            ("crystal_quick at 60 kPa (tutorial)", at(60e3)),
             ("crystal_quick with two load-unload cycles", cycles), ("crystal_quick at 10 kPa (tutorial)", at(10e3))]
 
 
@@ -91,6 +92,14 @@ class CostEstimateTest(unittest.TestCase):
                 self.assertLess(abs(estimate["steps"] / summary["steps"] - 1), 0.3,
                                 "%s: %d steps expected (%s), %d taken" % (name, estimate["steps"],
                                                                           estimate["phases"], summary["steps"]))
+
+    def test_a_fresh_server_estimates_from_its_speed_probe(self):
+        name, estimate, summary = self.results[0]
+        self.assertIn("speed probe", estimate["rate_basis"])
+        self.assertLess(abs(estimate["expected_seconds"] / summary["wall_seconds"] - 1), 0.3,
+                        "%s: %.1f s expected (at %.3g sphere-steps/s: %s), %.1f s taken" % (
+                            name, estimate["expected_seconds"], estimate["sphere_steps_per_second"],
+                            estimate["rate_basis"], summary["wall_seconds"]))
 
     def test_a_job_estimated_from_this_servers_runs_takes_the_time_it_was_given(self):
         seen = set()

@@ -36,9 +36,9 @@ DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 SVG = "{http://www.w3.org/2000/svg}"
 
 # 6 x 12 x 3 = 216 grains, 72 in each {111} layer. A time step factor of 0.4 (instead of 0.2) makes the
-# confinement about 1.5 s, and R = 2e-5 makes the compression about 2 s on one thread: long enough for the
-# live curve (stored every second) to be caught growing even on a loaded machine (about 4 s of
-# compression each), short enough for three jobs in about 20 s.
+# confinement about 0.5-1.5 s, and R = 5e-6 makes the compression 3-8 s on one thread (the fastest and the
+# slowest machine seen; at 2e-5 the fastest finished it within one store of the live curve, which is every
+# second): long enough for the live curve to be caught growing, short enough for three jobs in under a minute.
 PRESSURES = [10000, 30000, 60000]
 GRAINS_X, ROWS_Z, LAYERS_Y = 6, 12, 3
 GRAINS = GRAINS_X * ROWS_Z * LAYERS_Y
@@ -49,7 +49,7 @@ SWEEP_LABEL = "e2e pressure sweep"
 CRYSTAL = {"experiment": "crystal_compression", "label": CRYSTAL_LABEL,
            "grain": {"shape": "rhombic_dodecahedron", "edge_spheres": 4},
            "crystal": {"grains_x": GRAINS_X, "rows_z": ROWS_Z, "layers_y": LAYERS_Y},
-           "loading": {"confining_pressure": 30000, "max_strain": 0.01, "rate_number": 2e-5},
+           "loading": {"confining_pressure": 30000, "max_strain": 0.01, "rate_number": 5e-6},
            "run": {"time_step_factor": 0.4},
            "output": {"curve_points": CURVE_POINTS, "snapshot_strains": [0, 0.01]}}
 FIELDS = ["severity", "gamma_max", "equivalent_strain", "displacement"]

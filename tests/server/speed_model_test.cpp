@@ -19,6 +19,20 @@ TEST(SpeedModel, WithoutHistoryItIsTheTableAndSaysSo) {
   EXPECT_NE(s.basis.find("no finished jobs"), std::string::npos) << s.basis;
 }
 
+TEST(SpeedModel, AFreshServerScalesTheTableByItsSpeedProbe) {
+  // A machine that ran the probe at 1.5x the table's machine is expected 1.5x faster at every size.
+  const double probe = 1.5 * table_machine_probe();
+  for (const RunSize& job : {kSmallCrystal, kLargeCrystal}) {
+    const SpeedEstimate s = estimate_speed(job, {}, probe);
+    EXPECT_NEAR(s.sphere_steps_per_second, 1.5 * benchmark_speed(job), 1e-9 * s.sphere_steps_per_second);
+    EXPECT_NE(s.basis.find("speed probe"), std::string::npos) << s.basis;
+    EXPECT_NE(s.basis.find("1.50"), std::string::npos) << s.basis;
+  }
+  // Once a job has finished here, its measured speed rules and the probe no longer counts.
+  const SpeedEstimate s = estimate_speed(kLargeCrystal, {{kSmallCrystal, 0.6 * benchmark_speed(kSmallCrystal)}}, probe);
+  EXPECT_NEAR(s.sphere_steps_per_second, 0.6 * benchmark_speed(kLargeCrystal), 1e-9 * s.sphere_steps_per_second);
+}
+
 TEST(SpeedModel, ARunOfTheSameSizeGivesItsOwnSpeed) {
   const SpeedEstimate s = estimate_speed(kSmallCrystal, {{kSmallCrystal, 3.0e7}});
   EXPECT_NEAR(s.sphere_steps_per_second, 3.0e7, 1e-6 * 3.0e7);

@@ -194,6 +194,37 @@ TEST(JobStore, ClaimRespectsTheRunningQuotaPerOwner) {
   EXPECT_EQ(store.claim_next(2)->id, a2);  // a larger quota lets it start
 }
 
+// Fair share (docs/api.md, "Users"): one user's many queued jobs take turns with another's.
+TEST(JobStore, ClaimSharesTheWorkersFairlyBetweenOwners) {
+  JobStore store(":memory:");
+  const auto submit = [&](const std::string& owner, int priority = 0) {
+    return store.submit(R"({"experiment":"two_cube_sliding"})", "two_cube_sliding", owner, "", "0.1.0", owner,
+                        priority);
+  };
+  std::vector<std::int64_t> alice;
+  for (int k = 0; k < 4; ++k) alice.push_back(submit("alice"));
+  const auto bob = submit("bob");
+  // One worker: alice's first, then bob's (he has had no turn), then alice's others.
+  const auto finish = [&](std::int64_t id) { ASSERT_TRUE(store.succeed(id, "{}", "", "")); };
+  const auto first = store.claim_next();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->id, alice[0]);
+  finish(first->id);
+  const auto second = store.claim_next();
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->id, bob);
+  finish(second->id);
+  EXPECT_EQ(store.claim_next()->id, alice[1]);
+  // Two workers: with one of alice's running, a newcomer's job goes before her older ones.
+  const auto carol = submit("carol");
+  EXPECT_EQ(store.claim_next()->id, carol);
+  EXPECT_EQ(store.claim_next()->id, alice[2]);
+  // Priority still comes first.
+  const auto urgent = submit("alice", 5);
+  submit("dave");
+  EXPECT_EQ(store.claim_next()->id, urgent);
+}
+
 // Delete: finished jobs only, with everything they stored; priority: queued jobs only.
 TEST(JobStore, RemoveAndReprioritise) {
   JobStore store(":memory:");
@@ -611,8 +642,8 @@ TEST_F(StoreFileTest, MigrationsAreIdempotentAndTheFileIsHealthy) {
   EXPECT_EQ(query("PRAGMA integrity_check"), "ok");
   EXPECT_EQ(query("PRAGMA foreign_key_check"), "<no row>");
   EXPECT_EQ(query("PRAGMA journal_mode"), "wal");
-  // jobs_by_status, jobs_by_spec, jobs_by_sweep
-  EXPECT_EQ(query("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name LIKE 'jobs_by_%'"), "3");
+  // jobs_by_status, jobs_by_spec, jobs_by_sweep, jobs_by_owner
+  EXPECT_EQ(query("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name LIKE 'jobs_by_%'"), "4");
 }
 
 TEST_F(StoreFileTest, RefusesADatabaseFromANewerBuild) {

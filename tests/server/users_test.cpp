@@ -107,7 +107,9 @@ TEST_F(Users, AccessMatrixLabWide) {
       EXPECT_EQ(as(who, "GET", page), 200) << page;  // it asks
     // Changes: each on a fresh queued job of alice's.
     const std::string queued = "/v1/jobs/" + std::to_string(submit_as_alice());
-    EXPECT_EQ(as(who, "POST", queued + "/priority?value=5"), !known ? 401 : may_change ? 200 : 403);
+    EXPECT_EQ(as(who, "POST", queued + "/priority?value=-5"), !known ? 401 : may_change ? 200 : 403);
+    // Above the default is for admins, even on one's own job.
+    EXPECT_EQ(as(who, "POST", queued + "/priority?value=5"), !known ? 401 : who == Caller::admin ? 200 : 403);
     EXPECT_EQ(as(who, "POST", queued + "/cancel"), !known ? 401 : may_change ? 200 : 403);
     EXPECT_EQ(as(Caller::owner, "POST", queued + "/cancel"), may_change ? 409 : 200);  // now cancelled either way
     EXPECT_EQ(as(who, "DELETE", queued), !known ? 401 : may_change ? 200 : 403);
@@ -202,9 +204,17 @@ TEST_F(Users, TokenFileRules) {
   std::string warning;
   auto tokens = read_token_file(write(p, "alice a1\nroot r1 admin\n", 0600).string(), &warning);
   EXPECT_TRUE(warning.empty()) << warning;
-  EXPECT_FALSE(tokens.at("a1").admin);
-  EXPECT_TRUE(tokens.at("r1").admin);
-  EXPECT_EQ(tokens.at("r1").name, "root");
+  // Kept by hash: the file's plain tokens are hashed as they are read, and a hash in the file is kept as is.
+  EXPECT_FALSE(tokens.count("a1"));
+  EXPECT_FALSE(tokens.at(token_hash("a1")).admin);
+  EXPECT_TRUE(tokens.at(token_hash("r1")).admin);
+  EXPECT_EQ(tokens.at(token_hash("r1")).name, "root");
+  EXPECT_EQ(token_hash("a1").size(), 7u + 64u);
+  tokens = read_token_file(write(p, "alice " + token_hash("a1") + "\n", 0600).string());
+  EXPECT_EQ(tokens.at(token_hash("a1")).name, "alice");
+  // The same token written plain and hashed is one token given twice.
+  EXPECT_THROW(read_token_file(write(p, "alice a1\nbob " + token_hash("a1") + "\n", 0600).string()),
+               std::invalid_argument);
   read_token_file(write(p, "alice a1\n", 0644).string(), &warning);
   EXPECT_NE(warning.find("readable by other users"), std::string::npos);
   // One token per user, one user per token, known roles only: start-up errors naming the line.

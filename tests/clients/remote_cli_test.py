@@ -1,0 +1,151 @@
+#!/usr/bin/python3
+"""The CLI's server commands as a shared server's users run them (issue 25, point 8), against a real granulabd
+on loopback with a real SQLite file and tokens:
+
+- `status`, `cancel`, `delete`, `priority` and `list` print lines for people, `--json` the server's answer;
+- `list` shows each job's owner;
+- `--server URL/` with a trailing slash reaches the server;
+- `submit -` reads the spec from standard input;
+- `results` of an unknown job writes nothing, not even its folder;
+- `wait` into a log (not a terminal) writes a line as each job's progress passes another tenth, each line
+  there as soon as it is written.
+
+Run from the repository root:  /usr/bin/python3 tests/clients/remote_cli_test.py
+Standard library only; the binaries come from $GRANULABD (set by CTest) or build/.
+"""
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.dirname(HERE))
+import skip_aware  # noqa: E402
+
+DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
+TINY = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 2}, "loading": {"rate_number": 0.1},
+        "output": {"curve_points": 4}, "label": "tiny"}
+# About 6 s on one thread (2,000,000 steps): long enough for a log to show its progress.
+SLOWER = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 2e-6},
+          "output": {"curve_points": 20}, "label": "slower"}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class RemoteCliTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="granulab_cli_")
+        tokens = os.path.join(cls.dir, "tokens")
+        made = subprocess.run([DAEMON, "token", "add", "alice", "--token-file", tokens], capture_output=True,
+                              text=True, check=True)
+        cls.token = made.stdout.strip()
+        cls.port = free_port()
+        cls.server = "http://127.0.0.1:%d" % cls.port
+        cls.log = open(os.path.join(cls.dir, "daemon.log"), "w")
+        cls.daemon = subprocess.Popen([DAEMON, "--port", str(cls.port), "--db", os.path.join(cls.dir, "g.db"),
+                                       "--workers", "1", "--threads", "1", "--token-file", tokens,
+                                       "--speed-probe-seconds", "0"], stdout=cls.log, stderr=subprocess.STDOUT)
+        for _ in range(200):
+            if cls.cli("list").returncode == 0:
+                break
+            time.sleep(0.05)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.daemon.terminate()
+        cls.daemon.wait(timeout=30)
+        cls.log.close()
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    @classmethod
+    def cli(cls, *args, server=None, stdin=None, stderr_file=None):
+        env = dict(os.environ, GRANULAB_SERVER=server or cls.server, GRANULAB_TOKEN=cls.token)
+        return subprocess.run([CLI] + list(args), env=env, input=stdin, text=True, capture_output=stderr_file is None,
+                              stdout=subprocess.PIPE if stderr_file else None, stderr=stderr_file, timeout=120)
+
+    def submit(self, spec):
+        path = os.path.join(self.dir, "spec-%d.json" % time.monotonic_ns())
+        with open(path, "w") as f:
+            json.dump(spec, f)
+        made = self.cli("submit", path)
+        self.assertEqual(made.returncode, 0, made.stderr)
+        return made.stdout.strip()
+
+    def test_status_cancel_delete_and_list_print_lines_for_people_and_json_for_scripts(self):
+        job = self.submit(TINY)
+        self.assertEqual(self.cli("wait", job).returncode, 0)
+        status = self.cli("status", job)
+        self.assertEqual(status.returncode, 0, status.stderr)
+        self.assertTrue(status.stdout.startswith("job %s  succeeded  100.0 %%  two_cube_sliding  tiny" % job),
+                        status.stdout)
+        self.assertIn("owner: alice", status.stdout)
+        self.assertIn(" steps in ", status.stdout)
+        self.assertEqual(json.loads(self.cli("status", job, "--json").stdout)["status"], "succeeded")
+        listed = self.cli("list").stdout
+        line = next(l for l in listed.splitlines() if l.split()[0] == job)
+        self.assertIn(" alice ", line)
+        self.assertIn("tiny", line)
+        self.assertEqual(json.loads(self.cli("list", "--json").stdout)["jobs"][0]["owner"], "alice")
+        priority = self.cli("priority", job, "--priority", "-5")
+        self.assertNotEqual(priority.returncode, 0)  # a finished job has no priority to change: the server says so
+        self.assertIn("HTTP 409", priority.stderr)
+        queued = self.submit(SLOWER)
+        cancelled = self.cli("cancel", queued)
+        self.assertEqual(cancelled.returncode, 0, cancelled.stderr)
+        self.assertRegex(cancelled.stdout, r"^job %s: (cancelled|running)\n$" % queued)
+        self.assertEqual(self.cli("delete", job).stdout, "job %s deleted\n" % job)
+        self.assertNotEqual(self.cli("status", job).returncode, 0)
+
+    def test_a_trailing_slash_reaches_the_server(self):
+        listed = self.cli("list", server=self.server + "/")
+        self.assertEqual(listed.returncode, 0, listed.stderr)
+
+    def test_submit_dash_reads_the_spec_from_standard_input(self):
+        made = self.cli("submit", "-", stdin=json.dumps(TINY))
+        self.assertEqual(made.returncode, 0, made.stderr)
+        self.assertRegex(made.stdout, r"^\d+\n$")
+        dry = self.cli("submit", "-", "--dry-run", stdin=json.dumps(TINY))
+        self.assertIn("two_cube_sliding", dry.stdout)
+
+    def test_results_of_an_unknown_job_leave_no_folder(self):
+        out = os.path.join(self.dir, "results-999")
+        made = self.cli("results", "999999", "--out", out)
+        self.assertNotEqual(made.returncode, 0)
+        self.assertIn("HTTP 404", made.stderr)
+        self.assertFalse(os.path.exists(out))
+
+    def test_wait_into_a_log_shows_progress_as_it_goes(self):
+        job = self.submit(SLOWER)
+        log_path = os.path.join(self.dir, "wait.log")
+        with open(log_path, "w") as log:
+            env = dict(os.environ, GRANULAB_SERVER=self.server, GRANULAB_TOKEN=self.token)
+            waiter = subprocess.Popen([CLI, "wait", job], env=env, stdout=log, stderr=log)
+            seen_running = False
+            while waiter.poll() is None:
+                with open(log_path) as f:
+                    # A line of the running job is in the file while the job still runs.
+                    if "running" in f.read() and waiter.poll() is None:
+                        seen_running = True
+                time.sleep(0.1)
+        with open(log_path) as f:
+            lines = [l for l in f.read().splitlines() if l.startswith("job %s" % job)]
+        self.assertEqual(waiter.returncode, 0)
+        self.assertTrue(seen_running, lines)
+        running = [l for l in lines if " running " in l]
+        self.assertGreaterEqual(len(running), 3, lines)  # several tenths of progress, not one line per status
+
+
+if __name__ == "__main__":
+    skip_aware.main()
