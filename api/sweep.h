@@ -28,6 +28,8 @@ struct Sweep {
 
 /// Reads and expands a sweep request; throws SpecError naming the field: "spec", "vary", "mode", "label",
 /// or "vary.<dotted key>" for a value the spec refuses (the message gives the value and why).
-Sweep parse_sweep(const nlohmann::json& request, std::size_t max_jobs);
+/// At most `max_jobs` points, and at most `max_bytes` of normalised specs in all (checked on the base spec's
+/// size before any point is made, then exactly).
+Sweep parse_sweep(const nlohmann::json& request, std::size_t max_jobs, std::size_t max_bytes = 16000000);
 
 }  // namespace granulab::api

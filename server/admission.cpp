@@ -69,6 +69,44 @@ bool Admission::within_queue_quota(const User& who, std::size_t more, http::Resp
   return false;
 }
 
+namespace {
+
+// What the store keeps of a run (B), upper bounds of what stored jobs measured (2026-12-02): each curve value
+// is written as text up to four times (the live row's CSV line and JSON values, then the finished curve's
+// CSV and JSON: 11-24 KB for 51-101 rows of 20-odd columns measured); a snapshot 388-407 B per grain
+// (N_e = 3 to 6); a checkpoint 19-30 B per sphere at rest and about 274 B per sphere once loading has made
+// its contacts (the audit at full size).
+constexpr double kBytesPerCurveValue = 60;
+constexpr double kBytesPerSnapshotGrain = 450;
+constexpr double kBytesPerCheckpointSphere = 300;
+
+std::string megabytes(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MB", bytes / 1e6);
+  return text;
+}
+
+}  // namespace
+
+double Admission::expected_store_bytes(const api::Spec& spec) const {
+  const Workload w = spec.experiment->workload();
+  const double results = w.curve_rows * double(spec.experiment->curve_columns().size()) * kBytesPerCurveValue +
+                         w.snapshots * w.grains * kBytesPerSnapshotGrain + 4096;
+  const double checkpoints = executor_.checkpoint_seconds() > 0 ? 3 * kBytesPerCheckpointSphere * w.spheres : 0;
+  return results + checkpoints;
+}
+
+bool Admission::within_storage(double bytes, http::Response& res) const {
+  const JobStore::Space s = store_.space();
+  if (!s.limited || s.committed + bytes <= s.room) return true;
+  http::error(res, 507, "storage_full",
+              "the store has " + megabytes(s.room) + " left (--max-db-mb or the disk, its write-ahead log counted); "
+              "the jobs queued and running are expected to take " + megabytes(s.committed) + " of it and this " +
+              "submission " + megabytes(bytes) + ": nothing was queued. Delete finished jobs, or ask the "
+              "server's administrator for room");
+  return false;
+}
+
 json Admission::cost_estimate(const api::Spec& spec) const {
   const Workload w = spec.experiment->workload();
   const std::string experiment = spec.normalized["experiment"].get<std::string>();

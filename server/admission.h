@@ -37,6 +37,13 @@ class Admission {
   bool within_budget(const api::Spec& spec, http::Response& res) const;
   /// False (and a 429 naming the limit) when `who` may not queue `more` jobs.
   bool within_queue_quota(const User& who, std::size_t more, http::Response& res) const;
+  /// B a job of `spec` is expected to store at most: its curve rows and snapshots as the store keeps
+  /// them and, with checkpoints on, three of its checkpoints (the stored one, its replacement being
+  /// written, and the write-ahead log's copy of it).
+  double expected_store_bytes(const api::Spec& spec) const;
+  /// False (and a 507 naming the room and what is asked) when the store cannot hold `bytes` more beside
+  /// what the jobs queued and running are expected to store.
+  bool within_storage(double bytes, http::Response& res) const;
   /// A dry run's answer: spheres, steps, memory and the expected wall time at this server's recent speed.
   nlohmann::json cost_estimate(const api::Spec& spec) const;
 

@@ -29,7 +29,8 @@ HttpServer::HttpServer(JobStore& store, Executor& executor, const HttpOptions& o
       admission_(store, executor, {options.max_queued_per_user, options.max_memory_bytes, options.max_sphere_steps},
                  options.machine_speed),
       worker_secrets_(store),
-      context_{store, executor, access_, admission_, worker_secrets_, std::size_t(options.max_jobs_per_sweep)} {
+      context_{store, executor, access_, admission_, worker_secrets_, std::size_t(options.max_jobs_per_sweep),
+               std::size_t(options.max_sweep_bytes)} {
   router_.set_gate([this](const http::Request& req, http::Response& res) { return access_.gate(req, res); });
   transport_ = std::make_unique<http::Transport>(router_, connection_options(options, worker_secrets_));
 }

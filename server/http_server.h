@@ -32,6 +32,7 @@ struct HttpOptions {
   bool private_reads = false;      ///< reading a job is for its owner and admins only
   int max_queued_per_user = 1000;  ///< more queued jobs of one user get 429
   int max_jobs_per_sweep = 1000;   ///< a larger sweep is a 400
+  double max_sweep_bytes = 16e6;   ///< B of specs one sweep stores (points x spec size); more is a 400
   /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
   double max_memory_bytes = 0;     ///< B, peak memory; 0 = half the machine's physical memory
   double max_sphere_steps = 4e12;  ///< spheres x time steps (under 12 h at the slowest full-size speed measured, 9.4e7/s)

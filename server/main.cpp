@@ -38,12 +38,13 @@ const char* kUsage =
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
     "                 [--max-connections-per-peer N]\n"
     "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S] [--max-db-mb MB]\n"
+    "                 [--max-sweep-mb MB]\n"
     "                 [--speed-probe-seconds S]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
     "            --keep-alive-timeout 5 --max-connections 512 --max-connections-per-peer (a quarter of them)\n"
     "            --max-memory (half the physical memory, in MB) --max-sphere-steps 4e12 --checkpoint-seconds 60\n"
-    "            --speed-probe-seconds 0.2\n"
+    "            --speed-probe-seconds 0.2 --max-sweep-mb 16 (the specs one sweep stores, points x spec size)\n"
     "  --max-db-mb: the database file may not grow past this (default: the disk's space); past it, or on a\n"
     "               full disk, submissions answer 507 and running jobs fail with the reason\n"
     "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
@@ -104,6 +105,7 @@ DaemonOptions parse_options(int argc, char** argv) {
     else if (a == "--max-connections") o.http.max_connections = parse_int_option(a, v, 1, 100000);
     else if (a == "--max-connections-per-peer")
       o.http.max_connections_per_peer = parse_int_option(a, v, 1, 100000);
+    else if (a == "--max-sweep-mb") o.http.max_sweep_bytes = 1e6 * parse_int_option(a, v, 1, 1000000);
     else if (a == "--max-memory") o.http.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
     else if (a == "--max-sphere-steps") o.http.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
     else if (a == "--speed-probe-seconds") o.speed_probe_seconds = parse_number_option(a, v, 0, 60);

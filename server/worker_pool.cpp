@@ -93,6 +93,9 @@ void WorkerPool::run_job(const JobRecord& job) {
     } catch (const sqlite::StoreFull& e) {
       const std::string reason = std::string("the server's storage is full (its disk, or --max-db-mb): ") + e.what() +
                                  "; what was stored before is kept";
+      // On a full disk even the failure needs room in the log: the reserve file gives it, so the job ends
+      // `failed` (its checkpoint dropped, not run again at the next start) rather than stay `running`.
+      if (store_.release_reserve()) spdlog::warn("job {}: the store is full; its reserve file was released", job.id);
       record_end(job.id, [&] { store_.fail(job.id, reason); });
       spdlog::error("job {} failed: {}", job.id, reason);
     } catch (const std::exception& e) {

@@ -19,6 +19,9 @@ struct Workload {
   double grains = 0;   ///< rigid bodies (-)
   double steps = 0;    ///< time steps, an upper bound: budgets and time limits rely on it (-)
   std::vector<WorkPhase> phases;  ///< the expected steps of each phase, in the order they run
+  /// What the run hands its sink, at most: what a store must have room for (the api sizes the bytes).
+  double curve_rows = 0;  ///< curve rows (-)
+  double snapshots = 0;   ///< grain snapshots, each of every grain (-)
 
   /// The steps the run is expected to take (-): the phases' sum (the bound when there are none).
   double expected_steps() const {

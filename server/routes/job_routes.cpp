@@ -42,8 +42,10 @@ void mount_job_routes(Router& router, const RouteContext& c) {
         return reply(res, 200, {{"id", *id}, {"status", api::status_name(JobStatus::succeeded)}, {"reused", true}});
     }
     if (!c.admission.within_queue_quota(who, 1, res)) return;
+    const double bytes = c.admission.expected_store_bytes(spec);
+    if (!c.admission.within_storage(bytes, res)) return;
     const std::int64_t id = c.store.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
-                                           who.name, int(priority));
+                                           who.name, int(priority), bytes);
     c.executor.notify();
     reply(res, 201, {{"id", id}, {"status", api::status_name(JobStatus::queued)}});
   });

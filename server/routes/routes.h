@@ -21,6 +21,7 @@ struct RouteContext {
   const Admission& admission;
   WorkerSecrets& worker_secrets;
   std::size_t max_jobs_per_sweep = 1000;  ///< a larger sweep is a 400
+  std::size_t max_sweep_bytes = 16000000;  ///< B of specs a sweep stores in all; more is a 400
 };
 
 /// GET /v1/health, /v1/openapi.json, /v1/experiments (meta_routes.cpp).

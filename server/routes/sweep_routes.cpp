@@ -19,7 +19,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
   router.post("/v1/sweeps", {"priority"}, [c](const http::Request& req, http::Response& res) {
     api::Sweep sweep;
     try {
-      sweep = api::parse_sweep(api::parse_bounded_json(req.body), c.max_jobs_per_sweep);
+      sweep = api::parse_sweep(api::parse_bounded_json(req.body), c.max_jobs_per_sweep, c.max_sweep_bytes);
     } catch (const api::SpecError& e) {
       return error(res, 400, e.code, e.what(), e.field);
     }
@@ -33,6 +33,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
     const User who = c.access.who(req);
     if (!c.admission.within_queue_quota(who, sweep.points.size(), res)) return;
     std::vector<JobStore::SweepJob> jobs;
+    double bytes = 0;
     for (const api::SweepPoint& p : sweep.points) {
       // "<sweep or spec label> (key=value, ...)", or just the values: what tells the sweep's jobs apart.
       std::string values;
@@ -40,9 +41,12 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
         values += (values.empty() ? "" : ", ") + key + "=" + value.dump();
       const std::string base = sweep.label.empty() ? p.spec.label : sweep.label;
       const std::string label = base.empty() ? values : base + " (" + values + ")";
+      const double job_bytes = c.admission.expected_store_bytes(p.spec);
+      bytes += job_bytes;
       jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
-                      api::spec_hash(p.spec.normalized), p.values.dump()});
+                      api::spec_hash(p.spec.normalized), p.values.dump(), job_bytes});
     }
+    if (!c.admission.within_storage(bytes, res)) return;
     SweepRecord record;
     record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;
     record.base_json = sweep.base.dump(), record.vary_json = sweep.vary.dump();

@@ -17,28 +17,33 @@ namespace granulab::server {
 using sqlite::Statement;
 using sqlite::Transaction;
 
-JobStore::JobStore(const std::string& path, std::int64_t max_bytes) : db_(std::make_unique<sqlite::Database>(path)) {
+JobStore::JobStore(const std::string& path, std::int64_t max_bytes)
+    : db_(std::make_unique<sqlite::Database>(path)), max_bytes_(max_bytes) {
   migrate(*db_);
+  make_reserve();
   if (max_bytes > 0) {
     // SQLite refuses to grow the file past max_page_count pages (SQLITE_FULL, as on a full disk).
     sqlite::Statement size(*db_, "PRAGMA page_size");
     const std::int64_t page = size.step() ? size.column_int64(0) : 4096;
     db_->exec("PRAGMA max_page_count = " + std::to_string(std::max<std::int64_t>(1, max_bytes / page)));
   }
+  // The write-ahead log keeps its size after a checkpoint unless told: truncated to 1 MB then, so that the
+  // room the store counts (the file and its log, JobStore::space) comes back once the log is written out.
+  db_->exec("PRAGMA journal_size_limit = 1048576");
 }
 
 JobStore::~JobStore() = default;
 
 std::int64_t JobStore::submit(const std::string& spec_json, const std::string& experiment, const std::string& label,
                               const std::string& spec_hash, const std::string& engine_version, const std::string& owner,
-                              int priority) {
+                              int priority, double expected_bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
   Transaction tx(*db_);
   Statement st(*db_,
                "INSERT INTO jobs (status, label, experiment, spec_json, spec_hash, engine_version, owner, priority, "
-               "created_ms) VALUES ('queued', ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
+               "created_ms, expected_bytes) VALUES ('queued', ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
   st.bind(1, label).bind(2, experiment).bind(3, spec_json).bind(4, spec_hash).bind(5, engine_version);
-  st.bind(6, owner).bind(7, priority).bind(8, now_ms());
+  st.bind(6, owner).bind(7, priority).bind(8, now_ms()).bind(9, expected_bytes);
   st.run();
   const std::int64_t id = db_->last_insert_rowid();
   log_event_locked(id, "submitted",

@@ -88,9 +88,11 @@ class JobStore {
   JobStore& operator=(const JobStore&) = delete;
 
   /// Adds a queued job; returns its id (ids grow with submission order).
+  /// `expected_bytes`: what the job is expected to store at most (results and checkpoints, B), counted
+  /// against the room left while it is queued or running (space()).
   std::int64_t submit(const std::string& spec_json, const std::string& experiment, const std::string& label,
                       const std::string& spec_hash, const std::string& engine_version, const std::string& owner,
-                      int priority);
+                      int priority, double expected_bytes = 0);
 
   /// Atomically takes the queued job with the highest priority (within a priority: fair share between
   /// owners, the one with the fewest running first, then the one whose last job started longest ago, then
@@ -125,6 +127,7 @@ class JobStore {
   /// A job of a sweep, before it exists.
   struct SweepJob {
     std::string spec_json, experiment, label, spec_hash, values_json;
+    double expected_bytes = 0;  ///< as submit()'s
   };
   /// Creates the sweep and all its jobs (queued) in one transaction; returns the sweep's id and the jobs'.
   std::pair<std::int64_t, std::vector<std::int64_t>> submit_sweep(const SweepRecord& sweep,
@@ -233,7 +236,21 @@ class JobStore {
   /// The job's events, oldest first, each as "kind: message" (job_id 0 = the daemon's events).
   std::vector<std::string> events(std::int64_t job_id);
 
+  /// The store's room (B), counted before work is accepted (docs/api.md, "What survives what").
+  struct Space {
+    double used = 0;       ///< the file's pages in use and its write-ahead log (B)
+    double room = 0;       ///< what may still be written: to --max-db-mb (the log counted) or the disk's free space
+    double committed = 0;  ///< the expected_bytes of the jobs queued or running (B)
+    bool limited = false;  ///< false for an in-memory store (no limit known)
+  };
+  Space space();
+  /// A file of a few MB beside the database, made at open when the disk has room: deleted when the store is
+  /// full, so that the failure of a job (and a cancel) can still be written. True when there was one.
+  bool release_reserve();
+
  private:
+  /// Makes the reserve file at open when there is none and the disk has room (the constructor only).
+  void make_reserve();
   /// A job's status, or nullopt for an unknown id (the caller holds the lock).
   std::optional<JobStatus> status_locked(std::int64_t id);
   /// A live curve's header and its rows (or only its latest); nullopt without a header.
@@ -249,6 +266,8 @@ class JobStore {
 
   std::mutex mutex_;
   std::unique_ptr<sqlite::Database> db_;
+  std::int64_t max_bytes_ = 0;
+  std::string reserve_path_;  ///< empty: none (in memory, or no room for it at open)
 };
 
 }  // namespace granulab::server

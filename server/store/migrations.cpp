@@ -127,6 +127,11 @@ ALTER TABLE curve_rows ADD COLUMN row_values TEXT NOT NULL DEFAULT '';
     R"sql(
 CREATE INDEX jobs_by_owner ON jobs (owner, status, started_ms);
 )sql",
+    // 8: what each job is expected to store at most (results and checkpoints, B), counted against the
+    // store's room while it is queued or running, so that a submission the store cannot hold is refused.
+    R"sql(
+ALTER TABLE jobs ADD COLUMN expected_bytes REAL NOT NULL DEFAULT 0;
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

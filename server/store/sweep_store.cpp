@@ -27,11 +27,13 @@ std::pair<std::int64_t, std::vector<std::int64_t>> JobStore::submit_sweep(const 
   std::vector<std::int64_t> ids;
   Statement job(*db_,
                 "INSERT INTO jobs (status, label, experiment, spec_json, spec_hash, engine_version, owner, priority, "
-                "created_ms, sweep_id, sweep_values) VALUES ('queued', ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
+                "created_ms, sweep_id, sweep_values, expected_bytes) VALUES ('queued', ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, "
+                "?9, ?10, ?11)");
   for (const SweepJob& j : jobs) {
     job.reset();
     job.bind(1, j.label).bind(2, j.experiment).bind(3, j.spec_json).bind(4, j.spec_hash).bind(5, engine_version);
-    job.bind(6, sweep.owner).bind(7, priority).bind(8, now_ms()).bind(9, sweep_id).bind(10, j.values_json).run();
+    job.bind(6, sweep.owner).bind(7, priority).bind(8, now_ms()).bind(9, sweep_id).bind(10, j.values_json);
+    job.bind(11, j.expected_bytes).run();
     ids.push_back(db_->last_insert_rowid());
   }
   log_event_locked(0, "sweep", "sweep " + std::to_string(sweep_id) + ": " + std::to_string(ids.size()) + " jobs");

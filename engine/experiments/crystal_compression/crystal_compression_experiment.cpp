@@ -1,5 +1,6 @@
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -232,6 +233,12 @@ Workload CrystalCompressionExperiment::workload() const {
   w.steps += loading_steps_bound(params, params.rows_z * params.grain.size);
   for (WorkPhase& phase : loading_phases(params, crystal_length_estimate(params), crystal_time_step(params)))
     w.phases.push_back(std::move(phase));
+  // One compression: curve_points rows and the start. A program: up to curve_points over its travel (more
+  // when it travels further than planned: twice, as a bound), 2 curve_points per segment for the deviator
+  // releases, and a row at each segment's end.
+  const double n = double(params.program.size()), points = double(params.curve_points);
+  w.curve_rows = n == 0 ? points + 1 : 1 + n + points * (2 * n + 2);
+  w.snapshots = double(params.snapshot_strains.size());
   return w;
 }
 

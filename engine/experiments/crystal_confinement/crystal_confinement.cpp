@@ -1,5 +1,6 @@
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -59,7 +60,11 @@ Headline CrystalConfinementExperiment::headline() const {
           nullptr};
 }
 
-Workload CrystalConfinementExperiment::workload() const { return confinement_workload(params); }
+Workload CrystalConfinementExperiment::workload() const {
+  Workload w = confinement_workload(params);
+  w.curve_rows = w.steps / std::max(1, params.membrane_interval) + 2;  // a row per membrane interval
+  return w;
+}
 
 std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink, const std::string& resume) const {
   const auto start = std::chrono::steady_clock::now();

@@ -84,6 +84,7 @@ Workload TwoCubeSlidingExperiment::workload() const {
   const double wave_speed = std::sqrt(params.material.youngs_modulus / params.material.density);
   w.steps = params.max_slide * params.grain.size / (params.rate_number * wave_speed * dt) + params.curve_points;
   w.phases.push_back({"slide", w.steps});  // the run is its one slide: the bound is what it takes
+  w.curve_rows = double(params.curve_points) + 1;
   return w;
 }
 
