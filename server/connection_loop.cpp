@@ -14,6 +14,8 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
 #include <spdlog/spdlog.h>
 
 namespace granulab::server {
@@ -68,8 +70,45 @@ bool send_all(int fd, const char* data, std::size_t size, int timeout_ms) {
   return true;
 }
 
+namespace {
+
+std::string openssl_error() {
+  const unsigned long code = ERR_get_error();
+  char text[256] = "unknown error";
+  if (code) ERR_error_string_n(code, text, sizeof text);
+  ERR_clear_error();
+  return text;
+}
+
+// The server's TLS context: the certificate chain and key of --tls-cert / --tls-key, TLS 1.2 or later.
+SSL_CTX* make_tls_context(const std::string& cert, const std::string& key) {
+  SSL_CTX* ctx = SSL_CTX_new(TLS_server_method());
+  if (!ctx) throw std::runtime_error("TLS: cannot make a context: " + openssl_error());
+  const auto fail = [&](const std::string& what) {
+    const std::string why = openssl_error();
+    SSL_CTX_free(ctx);
+    throw std::runtime_error("TLS: " + what + ": " + why);
+  };
+  SSL_CTX_set_min_proto_version(ctx, TLS1_2_VERSION);
+  if (SSL_CTX_use_certificate_chain_file(ctx, cert.c_str()) != 1) fail("cannot read the certificate '" + cert + "'");
+  if (SSL_CTX_use_PrivateKey_file(ctx, key.c_str(), SSL_FILETYPE_PEM) != 1) fail("cannot read the key '" + key + "'");
+  if (SSL_CTX_check_private_key(ctx) != 1) fail("the key '" + key + "' is not the certificate's");
+  // Writes may be partial (the loop keeps what is left) and retried from a string that may have moved.
+  SSL_CTX_set_mode(ctx, SSL_MODE_ENABLE_PARTIAL_WRITE | SSL_MODE_ACCEPT_MOVING_WRITE_BUFFER | SSL_MODE_RELEASE_BUFFERS);
+  SSL_CTX_set_options(ctx, SSL_OP_NO_RENEGOTIATION);
+  SSL_CTX_set_num_tickets(ctx, 0);  // no session tickets to write after the handshake
+  return ctx;
+}
+
+}  // namespace
+
 ConnectionLoop::ConnectionLoop(const ConnectionOptions& options, Handler handler)
     : options_(options), handler_(std::move(handler)) {
+  if (!options_.tls_cert_file.empty() || !options_.tls_key_file.empty()) {
+    if (options_.tls_cert_file.empty() || options_.tls_key_file.empty())
+      throw std::invalid_argument("TLS needs both a certificate and its key (--tls-cert and --tls-key)");
+    tls_ = make_tls_context(options_.tls_cert_file, options_.tls_key_file);
+  }
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("eventfd failed");
   poller_ = std::thread([this] { poll_loop(); });
@@ -78,12 +117,80 @@ ConnectionLoop::ConnectionLoop(const ConnectionOptions& options, Handler handler
 
 ConnectionLoop::~ConnectionLoop() {
   stop();
+  if (tls_) SSL_CTX_free(tls_);
   ::close(wake_fd_);
 }
 
 void ConnectionLoop::wake() {
   const std::uint64_t one = 1;
   [[maybe_unused]] const ssize_t n = ::write(wake_fd_, &one, sizeof one);
+}
+
+SSL* ConnectionLoop::tls_of(int fd) {
+  if (!tls_) return nullptr;
+  std::lock_guard<std::mutex> lock(tls_mutex_);
+  const auto it = sessions_.find(fd);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+// Through TLS, a call that cannot go on says which way the socket must become ready (WANT_READ or
+// WANT_WRITE, either way for a read or a write during a handshake): kept in c.tls_want for the poll, and
+// the same call is made again then. -1 with EAGAIN for that; 0 for a closed or failed connection.
+ssize_t ConnectionLoop::read_some(int fd, Connection& c, char* buffer, std::size_t size) {
+  SSL* ssl = c.draining ? nullptr : tls_of(fd);  // a draining connection's bytes are discarded unread
+  if (!ssl) return ::recv(fd, buffer, size, 0);
+  c.tls_want = 0;
+  ERR_clear_error();
+  const int n = SSL_read(ssl, buffer, int(std::min<std::size_t>(size, 1 << 30)));
+  if (n > 0) return n;
+  const int error = SSL_get_error(ssl, n);
+  if (error == SSL_ERROR_WANT_READ || error == SSL_ERROR_WANT_WRITE) {
+    c.tls_want = error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT;
+    errno = EAGAIN;
+    return -1;
+  }
+  ERR_clear_error();  // a client speaking plain HTTP to the TLS port, a reset: the connection ends
+  return 0;
+}
+
+ssize_t ConnectionLoop::write_some(int fd, Connection& c, const char* data, std::size_t size) {
+  SSL* ssl = tls_of(fd);
+  if (!ssl) return ::send(fd, data, size, MSG_NOSIGNAL);
+  c.tls_want = 0;
+  ERR_clear_error();
+  const int n = SSL_write(ssl, data, int(std::min<std::size_t>(size, 1 << 30)));
+  if (n > 0) return n;
+  const int error = SSL_get_error(ssl, n);
+  if (error == SSL_ERROR_WANT_READ || error == SSL_ERROR_WANT_WRITE) {
+    c.tls_want = error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT;
+    errno = EAGAIN;
+    return -1;
+  }
+  ERR_clear_error();
+  return 0;
+}
+
+bool ConnectionLoop::send_now(int fd, const std::string& text, int timeout_ms) {
+  SSL* ssl = tls_of(fd);
+  if (!ssl) return send_all(fd, text.data(), text.size(), timeout_ms);
+  if (!SSL_is_init_finished(ssl)) return false;  // no session to speak in yet
+  std::size_t at = 0;
+  while (at < text.size()) {
+    ERR_clear_error();
+    const int n = SSL_write(ssl, text.data() + at, int(text.size() - at));
+    if (n > 0) {
+      at += std::size_t(n);
+      continue;
+    }
+    const int error = SSL_get_error(ssl, n);
+    if (error != SSL_ERROR_WANT_READ && error != SSL_ERROR_WANT_WRITE) {
+      ERR_clear_error();
+      return false;
+    }
+    pollfd p{fd, short(error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT), 0};
+    if (::poll(&p, 1, timeout_ms) <= 0 || (p.revents & (POLLERR | POLLHUP))) return false;
+  }
+  return true;
 }
 
 int ConnectionLoop::peer_limit() const {
@@ -123,6 +230,8 @@ void ConnectionLoop::release_peer_slot(int fd) {
 }
 
 void ConnectionLoop::adopt(int fd) {
+  // Over a limit, plain HTTP gets a 503 that names it; TLS is closed before any handshake (a handshake
+  // to say no would spend what the limit protects).
   std::string peer;
   if (!take_peer_slot(fd, peer)) {
     const int limit = peer_limit();
@@ -130,7 +239,7 @@ void ConnectionLoop::adopt(int fd) {
         503, "too_many_connections",
         "the address " + peer + " has " + std::to_string(limit) +
             " open connections, the most one address may hold (max_connections_per_peer); close some or retry");
-    send_all(fd, text.data(), text.size(), 0);
+    if (!tls_) send_all(fd, text.data(), text.size(), 0);
     ::close(fd);
     return;
   }
@@ -138,7 +247,7 @@ void ConnectionLoop::adopt(int fd) {
     const std::string text = error_response(
         503, "too_many_connections",
         "the server has " + std::to_string(options_.max_connections) + " open connections (max_connections); retry");
-    send_all(fd, text.data(), text.size(), 0);
+    if (!tls_) send_all(fd, text.data(), text.size(), 0);
     release_peer_slot(fd);
     ::close(fd);
     --open_;
@@ -149,6 +258,17 @@ void ConnectionLoop::adopt(int fd) {
   // delayed ACK on every request (38 requests/s instead of thousands).
   int yes = 1;
   ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
+  if (tls_) {
+    SSL* ssl = SSL_new(tls_);
+    if (!ssl || SSL_set_fd(ssl, fd) != 1) {
+      if (ssl) SSL_free(ssl);
+      ERR_clear_error();
+      return close_connection(fd);
+    }
+    SSL_set_accept_state(ssl);  // the handshake runs inside the first reads
+    std::lock_guard<std::mutex> lock(tls_mutex_);
+    sessions_[fd] = ssl;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);  // with stop(): a socket is either taken in or closed, never lost
     if (stopping_) {
@@ -174,7 +294,7 @@ void ConnectionLoop::stop() {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const Work& w : work_) close_connection(w.fd);
   for (const Handed& h : incoming_) {
-    send_all(h.fd, h.response.data(), h.response.size(), 100);
+    send_now(h.fd, h.response, 100);
     close_connection(h.fd);
   }
   work_.clear();
@@ -182,6 +302,14 @@ void ConnectionLoop::stop() {
 }
 
 void ConnectionLoop::close_connection(int fd) {
+  if (tls_) {
+    std::lock_guard<std::mutex> lock(tls_mutex_);
+    const auto it = sessions_.find(fd);
+    if (it != sessions_.end()) {
+      SSL_free(it->second);  // the socket BIO leaves the socket to us
+      sessions_.erase(it);
+    }
+  }
   release_peer_slot(fd);  // before the close: once closed, the number may be another socket's
   ::close(fd);
   --open_;
@@ -204,6 +332,10 @@ void ConnectionLoop::admit(Handed h, std::int64_t now) {
 // Stop writing, then read and discard for a moment before closing: closing with unread bytes would reset
 // the connection and could destroy the answer before the client reads it.
 void ConnectionLoop::drain(int fd, Connection& c, std::int64_t now) {
+  if (SSL* ssl = tls_of(fd); ssl && SSL_is_init_finished(ssl)) {
+    SSL_shutdown(ssl);  // best effort: its close_notify, if the socket takes it now
+    ERR_clear_error();
+  }
   ::shutdown(fd, SHUT_WR);
   c.draining = true;
   c.out.clear();
@@ -214,14 +346,21 @@ void ConnectionLoop::drain(int fd, Connection& c, std::int64_t now) {
 void ConnectionLoop::reject(int fd, Connection& c, int status, const std::string& code, const std::string& message,
                             std::int64_t now) {
   const std::string text = error_response(status, code, message);
+  if (tls_of(fd)) {
+    // Through the session like any answer: the loop writes it, then drains.
+    c.out = text;
+    c.out_at = 0;
+    c.close_after = true;
+    c.deadline_ms = now + options_.write_timeout_ms;
+    return;
+  }
   send_all(fd, text.data(), text.size(), 0);
   drain(fd, c, now);
 }
 
 void ConnectionLoop::after_feed(int fd, Connection& c, std::int64_t now) {
   if (c.reader.take_continue()) {
-    const std::string go = "HTTP/1.1 100 Continue\r\n\r\n";
-    send_all(fd, go.data(), go.size(), 0);
+    send_now(fd, "HTTP/1.1 100 Continue\r\n\r\n", 100);
   }
   switch (c.reader.state()) {
     case RequestReader::State::need_more:
@@ -248,7 +387,7 @@ void ConnectionLoop::after_feed(int fd, Connection& c, std::int64_t now) {
 void ConnectionLoop::on_readable(int fd, std::int64_t now) {
   Connection& c = connections_.at(fd);
   char buffer[64 * 1024];
-  const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+  const ssize_t n = read_some(fd, c, buffer, sizeof buffer);
   if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
   if (n <= 0) {
     connections_.erase(fd);
@@ -262,7 +401,7 @@ void ConnectionLoop::on_readable(int fd, std::int64_t now) {
 
 void ConnectionLoop::on_writable(int fd, std::int64_t now) {
   Connection& c = connections_.at(fd);
-  const ssize_t n = ::send(fd, c.out.data() + c.out_at, c.out.size() - c.out_at, MSG_NOSIGNAL);
+  const ssize_t n = write_some(fd, c, c.out.data() + c.out_at, c.out.size() - c.out_at);
   if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
   if (n <= 0) {
     connections_.erase(fd);
@@ -294,7 +433,8 @@ void ConnectionLoop::poll_loop() {
     std::int64_t next_deadline = now + 1000;
     for (const auto& [fd, c] : connections_) {
       // While an answer goes out, nothing more is read: a client must take its answers to send more.
-      polled.push_back({fd, short(c.writing() ? POLLOUT : POLLIN), 0});
+      // Through TLS, the way the last call asked to wait (a read may need to write during a handshake).
+      polled.push_back({fd, short(c.tls_want ? c.tls_want : c.writing() ? POLLOUT : POLLIN), 0});
       next_deadline = std::min(next_deadline, c.deadline_ms);
     }
     const int ready = ::poll(polled.data(), polled.size(), int(std::max<std::int64_t>(0, next_deadline - now)));

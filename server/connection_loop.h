@@ -19,7 +19,12 @@
 #include <thread>
 #include <vector>
 
+#include <sys/types.h>
+
 #include "server/request_reader.h"
+
+struct ssl_st;
+struct ssl_ctx_st;
 
 namespace granulab::server {
 
@@ -38,6 +43,8 @@ struct ConnectionOptions {
   /// A trusted request (RequestLimits::trusted: a job's worker sending a checkpoint) has this long instead
   /// of request_timeout_ms, from the moment its head is read.
   int trusted_request_timeout_ms = 600000;
+  /// PEM files: with both, every connection speaks TLS (1.2 or later) and nothing else.
+  std::string tls_cert_file, tls_key_file;
 };
 
 /// Sends all of `data` on `fd` (blocking or not), waiting at most `timeout_ms` each time the socket is
@@ -71,6 +78,7 @@ class ConnectionLoop {
     std::size_t out_at = 0;         ///< bytes of it already sent
     bool close_after = false;       ///< close once `out` is sent
     bool trusted_deadline = false;  ///< the deadline is already the trusted request's
+    short tls_want = 0;             ///< TLS asked to wait for this poll event before the last call is retried
     bool writing() const { return out_at < out.size(); }
   };
   struct Handed {  ///< a connection entering the poll thread: new, or back from a handler with its answer
@@ -97,6 +105,12 @@ class ConnectionLoop {
   void wake();
   /// Counts `fd` against its peer's share; false (and nothing counted) when that peer holds its limit.
   bool take_peer_slot(int fd, std::string& peer);
+  /// TLS: the connection's session (nullptr without TLS); reads and writes through it, or the socket.
+  ssl_st* tls_of(int fd);
+  ssize_t read_some(int fd, Connection& c, char* buffer, std::size_t size);
+  ssize_t write_some(int fd, Connection& c, const char* data, std::size_t size);
+  /// An answer sent at once (an error, 100 Continue), through TLS when on; false when the peer is gone.
+  bool send_now(int fd, const std::string& text, int timeout_ms);
   int peer_limit() const;
   void release_peer_slot(int fd);
 
@@ -107,6 +121,10 @@ class ConnectionLoop {
   int wake_fd_ = -1;
 
   std::map<int, Connection> connections_;  ///< owned by the poll thread only
+
+  ssl_ctx_st* tls_ = nullptr;            ///< the server's TLS context; nullptr: plain HTTP
+  std::mutex tls_mutex_;
+  std::map<int, ssl_st*> sessions_;      ///< each TLS connection's session, by socket
 
   std::mutex peers_mutex_;
   std::map<std::string, int> per_peer_;  ///< open connections by peer address

@@ -19,6 +19,8 @@ ConnectionOptions connection_options(const HttpOptions& o, WorkerSecrets& secret
   connection.request_timeout_ms = o.request_timeout_ms;
   connection.keep_alive_timeout_ms = o.keep_alive_timeout_ms;
   connection.keep_alive_max_requests = o.keep_alive_max_requests;
+  connection.tls_cert_file = o.tls_cert_file;
+  connection.tls_key_file = o.tls_key_file;
   return connection;
 }
 

@@ -44,6 +44,8 @@ struct HttpOptions {
   int max_connections_per_peer = 0;  ///< 0: a quarter of max_connections (ConnectionOptions)
   /// B; the limit for a job's worker (its secret checked before the body is read): checkpoints, snapshots.
   std::size_t max_worker_body_bytes = std::size_t(1) << 30;
+  /// PEM files of the certificate (chain) and its key: with both, the server speaks HTTPS only.
+  std::string tls_cert_file, tls_key_file;
   /// This machine's speed probe for the cost estimates (server/machine_speed.h); none: the table alone.
   const MachineSpeed* machine_speed = nullptr;
 };

@@ -38,7 +38,7 @@ const char* kUsage =
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
     "                 [--max-connections-per-peer N]\n"
     "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S] [--max-db-mb MB]\n"
-    "                 [--max-sweep-mb MB]\n"
+    "                 [--max-sweep-mb MB] [--tls-cert FILE --tls-key FILE]\n"
     "                 [--speed-probe-seconds S]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
@@ -49,6 +49,7 @@ const char* kUsage =
     "               full disk, submissions answer 507 and running jobs fail with the reason\n"
     "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
     "                        from there (0: never, jobs restart from zero)\n"
+    "  --tls-cert, --tls-key: PEM certificate (chain) and key; the daemon then speaks HTTPS only (TLS 1.2+)\n"
     "  --speed-probe-seconds: at start, before any job runs, step a small crystal this long to learn this\n"
     "                         machine's speed for the dry runs' expected time (0: no probe)\n"
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
@@ -109,6 +110,8 @@ DaemonOptions parse_options(int argc, char** argv) {
     else if (a == "--max-memory") o.http.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
     else if (a == "--max-sphere-steps") o.http.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
     else if (a == "--speed-probe-seconds") o.speed_probe_seconds = parse_number_option(a, v, 0, 60);
+    else if (a == "--tls-cert") o.http.tls_cert_file = v;
+    else if (a == "--tls-key") o.http.tls_key_file = v;
     else if (a == "--executor") o.executor_name = v;
     else if (a == "--slurm-url") o.slurm.rest.url = v;
     else if (a == "--slurm-user") o.slurm.rest.user = v;
@@ -210,6 +213,8 @@ std::unique_ptr<Executor> make_executor(DaemonOptions& o, int threads, JobStore&
 
 int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "token") return token_command(argc, argv);
+  // A peer that resets a TLS connection must not end the daemon: OpenSSL writes without MSG_NOSIGNAL.
+  std::signal(SIGPIPE, SIG_IGN);
   granulab::api::reexec_with_passive_openmp(argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("granulabd"));
   spdlog::set_formatter(std::make_unique<PrintableFormatter>("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v"));
@@ -275,9 +280,10 @@ int main(int argc, char** argv) {
       if (!warning.empty()) spdlog::warn("{}", warning);
     }
     const bool loopback = host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
-    if (!loopback && !options.tokens.empty())
+    const bool tls = !options.tls_cert_file.empty();
+    if (!loopback && !options.tokens.empty() && !tls)
       spdlog::warn("listening on {} beyond loopback with access tokens but without TLS: the tokens cross the network "
-                   "in clear; put the daemon behind a TLS proxy, or keep it on loopback",
+                   "in clear; give --tls-cert and --tls-key, or keep it on loopback",
                    host);
     MachineSpeed machine_speed(o.speed_probe_seconds);
     options.machine_speed = &machine_speed;
@@ -298,7 +304,7 @@ int main(int argc, char** argv) {
           char text[256] = {};
           if (::gethostname(text, sizeof text - 1) == 0) name = text;
         }
-        cluster->set_public_url("http://" + name + ":" + std::to_string(bound));
+        cluster->set_public_url(std::string(tls ? "https://" : "http://") + name + ":" + std::to_string(bound));
         if (name.rfind("127.", 0) == 0 || name == "localhost" || name == "::1")
           spdlog::warn(
               "the Slurm jobs reach this daemon at {}, a loopback address: only nodes on this machine can; "
@@ -324,12 +330,13 @@ int main(int argc, char** argv) {
       }
     });
     spdlog::info(
-        "granulabd listening on http://{}:{} (db {}, {}, {}); the web page is "
-        "http://{}:{}/, the API document /v1/openapi.json",
-        host, bound, db,
+        "granulabd listening on {}://{}:{} (db {}, {}, {}); the web page is "
+        "{}://{}:{}/, the API document /v1/openapi.json",
+        tls ? "https" : "http", host, bound, db,
         on_slurm ? "jobs on Slurm, " + std::to_string(threads) + " thread(s) each by default"
                  : std::to_string(workers) + " worker(s) x " + std::to_string(threads) + " thread(s)",
-        options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", host, bound);
+        options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", tls ? "https" : "http",
+        host, bound);
     http.serve();
     starter.join();
     pool.stop();

@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct Args {
-  std::string command, server, target, out, status, owner, label;
+  std::string command, server, target, out, status, owner, label, ca_file;
   std::vector<std::string> targets;  // every positional argument (wait takes several ids)
   std::vector<std::string> vary;     // sweep: KEY=V1,V2,...
   bool reuse = false, priority_given = false, json_out = false, dry_run = false, zip = false;
@@ -44,6 +44,7 @@ Args parse(int argc, char** argv) {
   a.command = argv[1];
   const char* env = std::getenv("GRANULAB_SERVER");
   a.server = env ? env : "http://127.0.0.1:8080";
+  if (const char* ca = std::getenv("GRANULAB_CA_FILE")) a.ca_file = ca;
   for (int i = 2; i < argc; ++i) {
     const std::string s = argv[i];
     auto value = [&]() -> std::string {
@@ -51,6 +52,7 @@ Args parse(int argc, char** argv) {
       return argv[++i];
     };
     if (s == "--server") a.server = value();
+    else if (s == "--ca-file") a.ca_file = value();
     else if (s == "--out") a.out = value();
     else if (s == "--status") a.status = value();
     else if (s == "--reuse") a.reuse = true;
@@ -77,7 +79,11 @@ std::string call(httplib::Client& http, const std::string& server, const std::st
   const httplib::Result r = method == "POST"     ? http.Post(path.c_str(), body, "application/json")
                             : method == "DELETE" ? http.Delete(path.c_str())
                                                  : http.Get(path.c_str());
-  if (!r) throw std::runtime_error("cannot reach the server at " + server + " (" + httplib::to_string(r.error()) + ")");
+  if (!r) {
+    const bool tls = r.error() == httplib::Error::SSLServerVerification || r.error() == httplib::Error::SSLConnection;
+    throw std::runtime_error("cannot reach the server at " + server + " (" + httplib::to_string(r.error()) + ")" +
+                             (tls ? "; for a certificate of the lab's own, give --ca-file FILE or GRANULAB_CA_FILE" : ""));
+  }
   if (r->status >= 400) {
     std::string message = r->body;
     try {
@@ -246,6 +252,9 @@ int run_sweep(httplib::Client& http, const Args& a) {
 int run_remote(int argc, char** argv) {
   const Args a = parse(argc, argv);
   httplib::Client http(a.server);
+  // An https server's certificate is checked against the system's authorities, or this file's (a lab's own
+  // certificate, self-signed).
+  if (!a.ca_file.empty()) http.set_ca_cert_path(a.ca_file);
   http.set_read_timeout(60, 0);
   if (const char* token = std::getenv("GRANULAB_TOKEN")) http.set_bearer_token_auth(token);
   if (a.command == "submit") {

@@ -22,6 +22,7 @@ import argparse
 import json
 import os
 import socket
+import ssl
 import sys
 import time
 import urllib.error
@@ -53,8 +54,10 @@ class GranulabError(Exception):
 
 
 class Client:
-    def __init__(self, server=None, timeout=30.0, token=None, retries=3):
+    def __init__(self, server=None, timeout=30.0, token=None, retries=3, ca_file=None):
         # token: an access token of a server started with --token-file (default: GRANULAB_TOKEN).
+        # ca_file: for an https server, the PEM certificate(s) to trust beside the system's: a lab's own,
+        # self-signed one (default: GRANULAB_CA_FILE). The server's name is checked against it.
         # retries: how many times a request the server never answered is tried again (0.5, 1, 2 s apart):
         # a restarting daemon or a dropped connection is not an error for a script polling a long sweep.
         self.token = token or os.environ.get("GRANULAB_TOKEN")
@@ -64,6 +67,8 @@ class Client:
             server = "http://" + server
         self.server = server.rstrip("/")
         self.timeout = timeout
+        ca_file = ca_file or os.environ.get("GRANULAB_CA_FILE")
+        self._tls = ssl.create_default_context(cafile=ca_file) if self.server.startswith("https://") else None
 
     # -- transport -------------------------------------------------------------------------------
     def _request(self, method, path, query=None, body=None, raw=False, binary=False):
@@ -95,7 +100,7 @@ class Client:
             headers["Content-Type"] = "application/json"
         req = urllib.request.Request(url, data=data, method=method, headers=headers)
         try:
-            with urllib.request.urlopen(req, timeout=self.timeout) as resp:
+            with urllib.request.urlopen(req, timeout=self.timeout, context=self._tls) as resp:
                 payload = resp.read()
                 if binary:
                     return payload
@@ -105,9 +110,15 @@ class Client:
             raise self._error_from(e.code, e.read().decode("utf-8", "replace")) from None
         except urllib.error.URLError as e:
             # A timeout is an answer that did not come in time, not an unreachable server: never retried (the
-            # server may still be working on it; asking again would repeat the work).
+            # server may still be working on it; asking again would repeat the work). A certificate that does
+            # not verify is not retried either.
+            if isinstance(e.reason, ssl.SSLError):
+                raise GranulabError(0, "tls", f"cannot speak TLS with {self.server}: {e.reason} (for a "
+                                    "certificate of the lab's own, give ca_file or GRANULAB_CA_FILE)") from None
             code = "timeout" if isinstance(e.reason, (TimeoutError, socket.timeout)) else "unreachable"
             raise GranulabError(0, code, f"cannot reach {self.server}: {e.reason}") from None
+        except ssl.SSLError as e:
+            raise GranulabError(0, "tls", f"cannot speak TLS with {self.server}: {e}") from None
         except (TimeoutError, socket.timeout) as e:
             raise GranulabError(0, "timeout", f"{self.server} did not answer within {self.timeout} s: {e}") from None
         except (ConnectionError, OSError) as e:  # e.g. reset mid-response
