@@ -136,16 +136,14 @@ SSL* ConnectionLoop::tls_of(int fd) {
 // Through TLS, a call that cannot go on says which way the socket must become ready (WANT_READ or
 // WANT_WRITE, either way for a read or a write during a handshake): kept in c.tls_want for the poll, and
 // the same call is made again then. -1 with EAGAIN for that; 0 for a closed or failed connection.
-ssize_t ConnectionLoop::read_some(int fd, Connection& c, char* buffer, std::size_t size) {
-  SSL* ssl = c.draining ? nullptr : tls_of(fd);  // a draining connection's bytes are discarded unread
-  if (!ssl) return ::recv(fd, buffer, size, 0);
-  c.tls_want = 0;
-  ERR_clear_error();
-  const int n = SSL_read(ssl, buffer, int(std::min<std::size_t>(size, 1 << 30)));
+namespace {
+
+// What an SSL_read or SSL_write that returned `n` means for the loop (see read_some).
+ssize_t tls_outcome(SSL* ssl, int n, short& want) {
   if (n > 0) return n;
   const int error = SSL_get_error(ssl, n);
   if (error == SSL_ERROR_WANT_READ || error == SSL_ERROR_WANT_WRITE) {
-    c.tls_want = error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT;
+    want = error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT;
     errno = EAGAIN;
     return -1;
   }
@@ -153,21 +151,22 @@ ssize_t ConnectionLoop::read_some(int fd, Connection& c, char* buffer, std::size
   return 0;
 }
 
+}  // namespace
+
+ssize_t ConnectionLoop::read_some(int fd, Connection& c, char* buffer, std::size_t size) {
+  SSL* ssl = c.draining ? nullptr : tls_of(fd);  // a draining connection's bytes are discarded unread
+  if (!ssl) return ::recv(fd, buffer, size, 0);
+  c.tls_want = 0;
+  ERR_clear_error();
+  return tls_outcome(ssl, SSL_read(ssl, buffer, int(std::min<std::size_t>(size, 1 << 30))), c.tls_want);
+}
+
 ssize_t ConnectionLoop::write_some(int fd, Connection& c, const char* data, std::size_t size) {
   SSL* ssl = tls_of(fd);
   if (!ssl) return ::send(fd, data, size, MSG_NOSIGNAL);
   c.tls_want = 0;
   ERR_clear_error();
-  const int n = SSL_write(ssl, data, int(std::min<std::size_t>(size, 1 << 30)));
-  if (n > 0) return n;
-  const int error = SSL_get_error(ssl, n);
-  if (error == SSL_ERROR_WANT_READ || error == SSL_ERROR_WANT_WRITE) {
-    c.tls_want = error == SSL_ERROR_WANT_READ ? POLLIN : POLLOUT;
-    errno = EAGAIN;
-    return -1;
-  }
-  ERR_clear_error();
-  return 0;
+  return tls_outcome(ssl, SSL_write(ssl, data, int(std::min<std::size_t>(size, 1 << 30))), c.tls_want);
 }
 
 bool ConnectionLoop::send_now(int fd, const std::string& text, int timeout_ms) {
