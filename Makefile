@@ -2,6 +2,7 @@
 # configure and build first.
 #   make run   - build, start granulabd on var/granulab.db, run the two-cube demo through it, keep serving
 #   make test  - build, then run every test (ctest)
+#   make docker-check - build the image for real (buildah) and check it serves a job (outside make test)
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES := cmake make g++ pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev \
@@ -9,7 +10,7 @@ DEBIAN_PACKAGES := cmake make g++ pkg-config libeigen3-dev libcpp-httplib-dev nl
                    libarchive-dev libssl-dev chromium python3-jsonschema
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: deps configure build test run bench clean
+.PHONY: deps configure build test run bench clean docker-check
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -34,6 +35,11 @@ run: configure
 
 bench: build
 	$(BUILD)/bench/bench_contacts
+
+# Not part of `make test`: builds docker/Dockerfile with buildah (its build stage runs every test) and checks
+# that the image serves a job (docker/check.sh; root; about half an hour on 2 cores).
+docker-check:
+	$(SUDO) docker/check.sh
 
 clean:
 	rm -rf $(BUILD)
