@@ -13,17 +13,12 @@
 
 namespace granulab::api {
 
-/// A checkpoint as a job keeps it: the engine's state (ResultSink::checkpoint) and how many curve rows
-/// and snapshots the job's results held when it was taken.
+/// A checkpoint as a job keeps it: the engine's state (ResultSink::checkpoint), read from wherever the
+/// sink put it, and how many curve rows and snapshots the job's results held when it was taken.
 struct Resume {
-  std::string state;
+  CheckpointSource state;
   std::size_t rows = 0, snapshots = 0;
 };
-
-/// A Resume as one byte string (a file, a blob): the two counts, then the state, which carries its own
-/// checksum. unpack_resume throws CheckpointError on anything else.
-std::string pack_resume(const Resume& resume);
-Resume unpack_resume(const std::string& bytes);
 
 class JobSink : public ResultSink {
  public:

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 
 #include "engine/core/checkpoint.h"
 
@@ -26,28 +25,9 @@ void MemorySink::curve_row(const std::vector<double>& values) { curve_csv_ += cu
 
 void MemorySink::snapshot(std::size_t, const GrainSnapshot& s) { snapshots_.emplace_back(s.strain, snapshot_json(s)); }
 
-// The two counts and a checksum of them (the state carries its own): a damaged count would trim the
-// results at the wrong place.
-std::string pack_resume(const Resume& resume) {
-  std::uint64_t head[3] = {resume.rows, resume.snapshots, 0};
-  head[2] = (head[0] * 1099511628211ull) ^ (head[1] + 1469598103934665603ull);
-  return std::string(reinterpret_cast<const char*>(head), sizeof head) + resume.state;
-}
-
-Resume unpack_resume(const std::string& bytes) {
-  std::uint64_t head[3] = {0, 0, 0};
-  if (bytes.size() < sizeof head) throw CheckpointError("checkpoint truncated");
-  std::memcpy(head, bytes.data(), sizeof head);
-  if (head[2] != ((head[0] * 1099511628211ull) ^ (head[1] + 1469598103934665603ull)))
-    throw CheckpointError("checkpoint corrupt (its row and snapshot counts)");
-  Resume r{bytes.substr(sizeof head), std::size_t(head[0]), std::size_t(head[1])};
-  CheckpointReader check(r.state);  // the frame and checksum, before anything is trimmed
-  return r;
-}
-
 nlohmann::json run(const Spec& spec, JobSink& sink, const Resume* resume) {
   sink.begin(spec.experiment->curve_columns(), resume);
-  const std::unique_ptr<ExperimentResult> result = spec.experiment->run(sink, resume ? resume->state : std::string());
+  const std::unique_ptr<ExperimentResult> result = spec.experiment->run(sink, resume ? &resume->state : nullptr);
   nlohmann::json summary = summary_json(spec, *result);
   sink.summary(summary);
   return summary;

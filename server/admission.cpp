@@ -107,6 +107,18 @@ bool Admission::within_storage(double bytes, http::Response& res) const {
   return false;
 }
 
+bool Admission::within_user_storage(const User& who, double bytes, http::Response& res) const {
+  if (limits_.max_user_bytes <= 0) return true;
+  const double held = store_.user_bytes(who.name);
+  if (held + bytes <= limits_.max_user_bytes) return true;
+  http::error(res, 507, "storage_quota",
+              (who.name.empty() ? std::string("the server's jobs") : "user '" + who.name + "'") + " hold or may write " +
+                  megabytes(held) + " and this submission " + megabytes(bytes) + "; the limit is " +
+                  megabytes(limits_.max_user_bytes) + " a user (--max-user-mb): nothing was queued. Delete finished "
+                  "jobs to make room");
+  return false;
+}
+
 json Admission::cost_estimate(const api::Spec& spec) const {
   const Workload w = spec.experiment->workload();
   const std::string experiment = spec.normalized["experiment"].get<std::string>();

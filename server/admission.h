@@ -24,6 +24,7 @@ struct AdmissionLimits {
   int max_queued_per_user = 1000;  ///< more queued jobs of one user get 429 (0 = no limit)
   double max_memory_bytes = 0;     ///< B, a job's estimated peak memory; 0 = half the machine's physical memory
   double max_sphere_steps = 4e12;  ///< spheres x time steps (under 12 h at the slowest full-size speed measured, 9.4e7/s)
+  double max_user_bytes = 0;       ///< B one user's jobs may hold or be expected to write (JobStore::user_bytes); 0 = no limit
 };
 
 class Admission {
@@ -44,6 +45,9 @@ class Admission {
   /// False (and a 507 naming the room and what is asked) when the store cannot hold `bytes` more beside
   /// what the jobs queued and running are expected to store.
   bool within_storage(double bytes, http::Response& res) const;
+  /// False (and a 507 `storage_quota` naming --max-user-mb, what `who` holds and what is asked) when `bytes`
+  /// more would take `who` past the per-user limit.
+  bool within_user_storage(const User& who, double bytes, http::Response& res) const;
   /// A dry run's answer: spheres, steps, memory and the expected wall time at this server's recent speed.
   nlohmann::json cost_estimate(const api::Spec& spec) const;
 

@@ -28,7 +28,7 @@ ConnectionOptions connection_options(const HttpOptions& o, WorkerSecrets& secret
 
 HttpServer::HttpServer(JobStore& store, Executor& executor, const HttpOptions& options)
     : access_(options.tokens, options.private_reads),
-      admission_(store, executor, {options.max_queued_per_user, options.max_memory_bytes, options.max_sphere_steps},
+      admission_(store, executor, {options.max_queued_per_user, options.max_memory_bytes, options.max_sphere_steps, options.max_user_bytes},
                  options.machine_speed),
       worker_secrets_(store),
       context_{store, executor, access_, admission_, worker_secrets_, std::size_t(options.max_jobs_per_sweep),

@@ -36,6 +36,7 @@ struct HttpOptions {
   /// Per-job budget, checked against the experiment's workload estimate when a job is submitted (400).
   double max_memory_bytes = 0;     ///< B, peak memory; 0 = half the machine's physical memory
   double max_sphere_steps = 4e12;  ///< spheres x time steps (under 12 h at the slowest full-size speed measured, 9.4e7/s)
+  double max_user_bytes = 0;       ///< B one user's jobs may hold or be expected to write; 0 = no limit
   /// Timeouts and connection limits (docs/api.md, "Connections").
   int request_timeout_ms = 10000;
   int keep_alive_timeout_ms = 5000;

@@ -38,7 +38,7 @@ const char* kUsage =
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
     "                 [--max-connections-per-peer N]\n"
     "                 [--max-memory MB] [--max-sphere-steps X] [--checkpoint-seconds S] [--max-db-mb MB]\n"
-    "                 [--max-sweep-mb MB] [--tls-cert FILE --tls-key FILE]\n"
+    "                 [--max-sweep-mb MB] [--max-user-mb MB] [--tls-cert FILE --tls-key FILE]\n"
     "                 [--speed-probe-seconds S]\n"
     "  defaults: --host 127.0.0.1 --port 8080 --db var/granulab.db --workers 1 --threads cores/workers\n"
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
@@ -47,6 +47,8 @@ const char* kUsage =
     "            --speed-probe-seconds 0.2 --max-sweep-mb 16 (the specs one sweep stores, points x spec size)\n"
     "  --max-db-mb: the database file may not grow past this (default: the disk's space); past it, or on a\n"
     "               full disk, submissions answer 507 and running jobs fail with the reason\n"
+    "  --max-user-mb: what one user's jobs may hold or be expected to write in the store (default: no\n"
+    "                 limit); a submission past it answers 507 storage_quota\n"
     "  --checkpoint-seconds: a running job stores its state this often; after a crash or a stop it resumes\n"
     "                        from there (0: never, jobs restart from zero)\n"
     "  --tls-cert, --tls-key: PEM certificate (chain) and key; the daemon then speaks HTTPS only (TLS 1.2+)\n"
@@ -62,7 +64,9 @@ const char* kUsage =
     "      [--slurm-partition P] [--public-url URL (where the nodes reach this daemon; default http://HOST:PORT)]\n"
     "      [--slurm-time-limit MIN (most a job may ask for; default 10080)] [--slurm-signal-seconds S (default 120)]\n"
     "      [--slurm-output PATTERN (the Slurm jobs' output on the node; default /dev/null)]\n"
-    "      [--slurm-worker PATH (the granulab binary on the nodes; default the one next to granulabd)]\n";
+    "      [--slurm-worker PATH (the granulab binary on the nodes; default the one next to granulabd)]\n"
+    "      [--worker-ca-file PATH (with --tls-cert: the CA the workers trust, as the nodes see it; default the\n"
+    "       --tls-cert file itself, which a self-signed certificate is)]\n";
 
 using granulab::api::parse_int_option;
 using granulab::api::parse_number_option;
@@ -109,6 +113,7 @@ DaemonOptions parse_options(int argc, char** argv) {
     else if (a == "--max-sweep-mb") o.http.max_sweep_bytes = 1e6 * parse_int_option(a, v, 1, 1000000);
     else if (a == "--max-memory") o.http.max_memory_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
     else if (a == "--max-sphere-steps") o.http.max_sphere_steps = parse_number_option(a, v, 1, 1e18);
+    else if (a == "--max-user-mb") o.http.max_user_bytes = 1e6 * parse_int_option(a, v, 1, 100000000);
     else if (a == "--speed-probe-seconds") o.speed_probe_seconds = parse_number_option(a, v, 0, 60);
     else if (a == "--tls-cert") o.http.tls_cert_file = v;
     else if (a == "--tls-key") o.http.tls_key_file = v;
@@ -122,6 +127,7 @@ DaemonOptions parse_options(int argc, char** argv) {
     else if (a == "--slurm-signal-seconds") o.slurm.signal_seconds = parse_int_option(a, v, 1, 86400);
     else if (a == "--slurm-output") o.slurm.output = v;
     else if (a == "--slurm-worker") o.slurm.worker_binary = v;
+    else if (a == "--worker-ca-file") o.slurm.worker_ca_file = v;
     else throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
   }
   return o;
@@ -202,6 +208,9 @@ std::unique_ptr<Executor> make_executor(DaemonOptions& o, int threads, JobStore&
   }
   if (slurm_options.worker_binary.empty())
     slurm_options.worker_binary = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "granulab").string();
+  // A self-signed certificate is its own CA: the workers trust it by the same path, on a shared filesystem.
+  if (slurm_options.worker_ca_file.empty() && !o.http.tls_cert_file.empty())
+    slurm_options.worker_ca_file = std::filesystem::absolute(o.http.tls_cert_file).string();
   slurm_options.threads_per_job = threads;
   slurm_options.checkpoint_seconds = o.checkpoint_seconds;
   auto slurm_executor = std::make_unique<slurm::SlurmExecutor>(store, slurm_options);
@@ -271,6 +280,9 @@ int main(int argc, char** argv) {
     // Jobs on a cluster are still there: the Slurm executor follows them again.
     const std::size_t requeued = store.requeue_running(on_slurm);
     if (requeued) spdlog::info("re-queued {} job(s) left running by the last run", requeued);
+    // Chunks of checkpoints replaced, dropped or half written by the last run (a chunk per transaction).
+    if (const std::size_t dropped = store.drop_checkpoint_garbage(std::size_t(-1)))
+      spdlog::info("removed {} checkpoint chunk(s) of no checkpoint", dropped);
     slurm::SlurmExecutor* cluster = nullptr;
     const std::unique_ptr<Executor> executor = make_executor(o, threads, store, cluster);
     Executor& pool = *executor;

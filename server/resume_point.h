@@ -16,4 +16,8 @@ namespace granulab::server {
 /// afresh (its fresh start drops the old results). Never throws.
 std::optional<api::Resume> resume_point(JobStore& store, std::int64_t job, const std::string& engine_version);
 
+/// The stored checkpoint `cp` of `job` as a source that reads its chunks one at a time (one chunk in
+/// memory); a chunk gone meanwhile reads as a truncated checkpoint.
+CheckpointSource stored_checkpoint_source(JobStore& store, std::int64_t job, const JobStore::Checkpoint& cp);
+
 }  // namespace granulab::server

@@ -52,10 +52,34 @@ bool StoreSink::checkpoint_due() {
   return stopping_ || seconds_since(last_checkpoint_) >= checkpoint_seconds_;
 }
 
-void StoreSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
-  const JobStore::Checkpoint cp{state, std::int64_t(rows), std::int64_t(snapshots), engine_version_};
+void StoreSink::checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) {
   const auto t = std::chrono::steady_clock::now();
-  store_.append_results(job_, rows_stored_, pending_rows_, pending_snapshots_, &cp);
+  // The state goes into the store a chunk at a time, each in its own transaction, beside the previous
+  // checkpoint; then one transaction makes it the job's together with the rows and snapshots it follows.
+  JobStore::Checkpoint cp{store_.begin_checkpoint(job_), 0, 0, std::int64_t(rows), std::int64_t(snapshots),
+                          engine_version_};
+  try {
+    CheckpointWriter w([&](const char* data, std::size_t n) {
+      if (!store_.put_checkpoint_chunk(job_, cp.generation, cp.chunks++, data, n))
+        throw std::logic_error("checkpoint write abandoned");  // one run per job: cannot happen
+      cp.bytes += std::int64_t(n);
+    });
+    content(w);
+    w.finish();
+    store_.append_results(job_, rows_stored_, pending_rows_, pending_snapshots_, &cp);
+  } catch (...) {
+    store_.end_checkpoint_write(job_, cp.generation);  // what it wrote is garbage now
+    throw;
+  }
+  store_.end_checkpoint_write(job_, cp.generation);
+  // The previous checkpoint's chunks, a chunk per transaction; not on the way out (the next start, or the
+  // job's end, removes them), and a store that cannot delete now keeps them for the next time.
+  if (!stopping_) {
+    try {
+      store_.drop_checkpoint_garbage(std::size_t(-1));
+    } catch (const std::exception&) {
+    }
+  }
   rows_stored_ += pending_rows_.size();
   pending_rows_.clear();
   pending_snapshots_.clear();

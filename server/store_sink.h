@@ -41,8 +41,8 @@ class StoreSink : public api::JobSink {
   /// cancel request, at most every flush_seconds.
   bool progress(double fraction) override;
   bool checkpoint_due() override;
-  /// Flushes what is buffered with the checkpoint, in one transaction.
-  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
+  /// Streams the state into the store in chunks, then stores it with what is buffered in one transaction.
+  void checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) override;
   std::size_t checkpoints() const { return checkpoints_; }
   /// Flushes what is buffered and marks the job succeeded with its summary and whole curve.
   void summary(const nlohmann::json& summary) override;

@@ -41,14 +41,32 @@ void WorkerPool::stop() {
 void WorkerPool::work() {
   // The engine's thread count is per calling thread in OpenMP: set once for this worker.
   omp_set_num_threads(threads_per_job_);
+  // A store that cannot be claimed from (a full disk, the file gone) is tried again every 5 s, for as long as
+  // it takes; the log says so at the first failure, then every 10 minutes, and when it works again.
+  using Clock = std::chrono::steady_clock;
+  std::optional<Clock::time_point> failing_since;
+  Clock::time_point last_said{};
+  long failures = 0;
   while (!stopping_) {
     std::optional<JobRecord> job;
     bool store_failed = false;
     try {
       job = store_.claim_next(max_running_per_owner_);
+      if (failing_since)
+        spdlog::info("the store takes claims again, after {} failed attempts over {:.0f} s", failures,
+                     std::chrono::duration<double>(Clock::now() - *failing_since).count());
+      failing_since.reset();
+      failures = 0;
     } catch (const std::exception& e) {  // e.g. disk full or the file gone: retry, never crash
-      spdlog::error("cannot take the next job from the store: {}", e.what());
       store_failed = true;
+      ++failures;
+      const auto now = Clock::now();
+      if (!failing_since || now - last_said > std::chrono::minutes(10)) {
+        spdlog::error("cannot take the next job from the store: {}; trying again every 5 s{}", e.what(),
+                      failing_since ? " (" + std::to_string(failures) + " attempts so far)" : "");
+        last_said = now;
+      }
+      if (!failing_since) failing_since = now;
     }
     if (!job) {
       std::unique_lock<std::mutex> lock(mutex_);
@@ -104,6 +122,8 @@ void WorkerPool::run_job(const JobRecord& job) {
       record_end(job.id, [&] { store_.fail(job.id, reason); });
       spdlog::error("job {} failed: {}", job.id, reason);
     }
+    // A finished job keeps no checkpoint: its chunks go now, a chunk per transaction.
+    record_end(job.id, [&] { store_.drop_checkpoint_garbage(std::size_t(-1)); });
     return;
   }
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <iterator>
+#include <memory>
 #include <stdexcept>
 
 #include "api/curve_format.h"
@@ -24,7 +25,43 @@ long peak_rss_bytes() {
   return usage.ru_maxrss * 1024L;  // KiB on Linux
 }
 
+// A checkpoint file's head: the two counts and a check of them (the state carries its own checksum; a
+// damaged count would trim the results at the wrong place).
+constexpr std::size_t kHeadBytes = 3 * sizeof(std::uint64_t);
+
+std::uint64_t counts_check(std::uint64_t rows, std::uint64_t snapshots) {
+  return (rows * 1099511628211ull) ^ (snapshots + 1469598103934665603ull);
+}
+
+std::string checkpoint_head(std::size_t rows, std::size_t snapshots) {
+  const std::uint64_t head[3] = {rows, snapshots, counts_check(rows, snapshots)};
+  return std::string(reinterpret_cast<const char*>(head), sizeof head);
+}
+
 }  // namespace
+
+api::Resume read_checkpoint_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t head[3] = {0, 0, 0};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  if (!in || fs::file_size(path) < kHeadBytes) throw CheckpointError("checkpoint truncated");
+  if (head[2] != counts_check(head[0], head[1]))
+    throw CheckpointError("checkpoint corrupt (its row and snapshot counts)");
+  api::Resume r;
+  r.rows = std::size_t(head[0]);
+  r.snapshots = std::size_t(head[1]);
+  r.state.size = fs::file_size(path) - kHeadBytes;
+  r.state.open = [path]() -> CheckpointSource::ReadFn {
+    auto file = std::make_shared<std::ifstream>(path, std::ios::binary);
+    file->seekg(std::streamoff(kHeadBytes));
+    return [file](char* data, std::size_t n) {
+      file->read(data, std::streamsize(n));
+      return std::size_t(file->gcount());
+    };
+  };
+  verify_checkpoint(r.state);  // before anything is trimmed
+  return r;
+}
 
 void write_file(const fs::path& path, const std::string& text) {
   const fs::path tmp = path.string() + ".tmp";
@@ -80,9 +117,19 @@ bool FilesSink::checkpoint_due() {
              checkpoint_seconds_;
 }
 
-void FilesSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+void FilesSink::checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) {
   // curve.csv and the snapshots are already on disk up to here (flushed as made): the checkpoint follows.
-  write_file(checkpoint_file_, api::pack_resume({state, rows, snapshots}));
+  const fs::path tmp = checkpoint_file_.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << checkpoint_head(rows, snapshots);
+    CheckpointWriter w([&out](const char* data, std::size_t n) { out.write(data, std::streamsize(n)); });
+    content(w);
+    w.finish();
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+  }
+  fs::rename(tmp, checkpoint_file_);  // a crash before this leaves the previous checkpoint
   last_checkpoint_ = std::chrono::steady_clock::now();
 }
 

@@ -24,7 +24,8 @@ class FilesSink : public api::JobSink {
             double checkpoint_seconds = 60);
   void begin(const std::vector<CurveColumn>& columns, const api::Resume* resume) override;
   bool checkpoint_due() override;
-  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
+  /// Streams the state into CHECKPOINT.tmp after a head of the two counts, then renames it.
+  void checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) override;
   void curve_row(const std::vector<double>& values) override;
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
   bool progress(double fraction) override { return !progress_ || progress_(fraction); }
@@ -43,5 +44,9 @@ class FilesSink : public api::JobSink {
 
 /// Writes to a temporary name and renames, so a crash never leaves a half-written file.
 void write_file(const std::filesystem::path& path, const std::string& text);
+
+/// A checkpoint file FilesSink wrote, its frame and checksum checked (CheckpointError); its state is read
+/// from the file when the run restores it, never loaded whole.
+api::Resume read_checkpoint_file(const std::filesystem::path& path);
 
 }  // namespace granulab::cli

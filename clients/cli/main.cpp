@@ -158,7 +158,7 @@ int run(int argc, char** argv) {
           : fs::path(checkpoint_dir) / ("checkpoint_" + api::spec_hash(spec.normalized) + "_" + build_id() + ".bin");
   std::optional<api::Resume> from;
   if (resume && fs::exists(checkpoint_file)) {
-    from = api::unpack_resume(read_file(checkpoint_file));
+    from = cli::read_checkpoint_file(checkpoint_file);
     spdlog::info("resuming from {} after {} curve rows", checkpoint_file.string(), from->rows);
   } else if (resume) {
     spdlog::warn("no checkpoint of this spec in {}: starting from zero", checkpoint_dir);

@@ -1,6 +1,7 @@
 #include "clients/cli/remote_sink.h"
 
 #include <csignal>
+#include <cstdlib>
 #include <optional>
 #include <thread>
 
@@ -38,6 +39,9 @@ DaemonLink::DaemonLink(const std::string& server, std::int64_t job, std::string 
       patience_(patience_seconds),
       http_(std::make_unique<httplib::Client>(server)) {
   if (!http_->is_valid()) throw std::invalid_argument("cannot use server URL '" + server + "'");
+  // A daemon over HTTPS with a certificate of the lab's own: its CA, as the node sees it (granulabd passes
+  // --worker-ca-file, or its own --tls-cert, in the Slurm job's environment).
+  if (const char* ca = std::getenv("GRANULAB_CA_FILE"); ca && *ca) http_->set_ca_cert_path(ca);
   http_->set_connection_timeout(5);
   http_->set_read_timeout(120);  // a checkpoint of a large crystal takes a while to store
   http_->set_write_timeout(120);
@@ -77,7 +81,8 @@ std::string DaemonLink::request(const std::string& method, const std::string& su
       failing_since_.reset();
       retry_after_ = 1;
       return r->body;
-    } else if (r->status >= 500 || r->status == 429 || r->status == 408) {
+    } else if ((r->status >= 500 && r->status != 507) || r->status == 429 || r->status == 408) {
+      // (507: the daemon's store is full and has failed the job, so there is nothing to retry.)
       problem = method + " " + path + " answered " + std::to_string(r->status);
     } else {
       std::string code = "http_error", message = r->body;
@@ -184,20 +189,58 @@ bool RemoteSink::checkpoint_due() {
   return stop_signal_ || seconds_since(last_checkpoint_) >= checkpoint_seconds_;
 }
 
-void RemoteSink::checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
+void RemoteSink::checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) {
   // Before a stop (the time limit near) it waits for the daemon; otherwise a daemon away skips this one.
   const bool wait = stop_signal_ != 0;
   last_checkpoint_ = Clock::now();
   try {
     flush(wait);                                         // the rows and snapshots it follows are stored first
     if (!lines_.empty() || !snapshots_.empty()) return;  // they were not: no checkpoint this time
-    link_.post("/checkpoint?rows=" + std::to_string(rows) + "&snapshots=" + std::to_string(snapshots) +
+    const std::string generation =
+        std::to_string(link_.post_json("/checkpoint/begin", json::object(), wait).at("generation").get<long long>());
+    long long chunks = 0, bytes = 0;
+    CheckpointWriter w([&](const char* data, std::size_t n) {
+      link_.post("/checkpoint/" + generation + "/" + std::to_string(chunks), std::string(data, n),
+                 "application/octet-stream", wait);
+      ++chunks;
+      bytes += static_cast<long long>(n);
+    });
+    content(w);
+    w.finish();
+    link_.post("/checkpoint?generation=" + generation + "&chunks=" + std::to_string(chunks) +
+                   "&bytes=" + std::to_string(bytes) + "&rows=" + std::to_string(rows) +
+                   "&snapshots=" + std::to_string(snapshots) +
                    "&engine_version=" + httplib::detail::encode_query_param(engine_version_),
-               state, "application/octet-stream", wait);
+               "", "application/octet-stream", wait);
   } catch (const Unavailable&) {
+    return;
+  } catch (const Refused& e) {
+    if (e.status != 409) throw;
+    spdlog::warn("checkpoint not stored ({}); the next one is due in {:.0f} s", e.what(), checkpoint_seconds_);
     return;
   }
   if (stop_signal_) interrupted();
+}
+
+api::Resume remote_checkpoint(DaemonLink& link) {
+  const json meta = json::parse(link.get("/checkpoint"), nullptr, false);
+  api::Resume r;
+  try {
+    r.rows = meta.at("rows").get<std::size_t>();
+    r.snapshots = meta.at("snapshots").get<std::size_t>();
+    const std::string chunks_path = "/checkpoint/" + std::to_string(meta.at("generation").get<long long>()) + "/";
+    r.state = chunked_checkpoint_source(
+        meta.at("bytes").get<std::uint64_t>(), meta.at("chunks").get<long long>(), [&link, chunks_path](std::int64_t k) {
+          try {
+            return link.get(chunks_path + std::to_string(k));
+          } catch (const Refused&) {  // replaced meanwhile: the reader finds the checkpoint short
+            return std::string();
+          }
+        });
+  } catch (const json::exception& e) {
+    throw CheckpointError(std::string("the daemon's description of the checkpoint is unusable: ") + e.what());
+  }
+  return r;
 }
 
 void RemoteSink::summary(const json& summary) {

@@ -74,6 +74,10 @@ class DaemonLink {
   double retry_after_ = 1;  ///< s between attempts of requests that do not wait, while the daemon is away
 };
 
+/// The job's stored checkpoint, read from the daemon a chunk at a time as the run restores it (one chunk
+/// in memory). Throws CheckpointError when its description is unusable, Refused without one.
+api::Resume remote_checkpoint(DaemonLink& link);
+
 class RemoteSink : public api::JobSink {
  public:
   /// `stop_signal`: set (to the signal's number) by the worker's handler.
@@ -84,7 +88,9 @@ class RemoteSink : public api::JobSink {
   void snapshot(std::size_t index, const GrainSnapshot& s) override;
   bool progress(double fraction) override;
   bool checkpoint_due() override;
-  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override;
+  /// Sends the state in chunks (begin, one POST per chunk, commit); a daemon away or a write it no
+  /// longer takes skips this checkpoint, except before a stop, which waits for it.
+  void checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) override;
   void summary(const nlohmann::json& summary) override;
   /// Sends what is buffered; true once the daemon has asked to stop (a cancel). With `wait` false and the
   /// daemon away, it stays buffered for the next flush.

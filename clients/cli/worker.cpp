@@ -103,7 +103,7 @@ int run_worker(int argc, char** argv) {
     spec = api::parse_spec_text(start["spec"].dump());
     if (start.value("resume", false)) {
       try {
-        resume = api::unpack_resume(link.get("/checkpoint"));
+        resume = remote_checkpoint(link);  // the daemon checked it before it said resume; the reader does again
       } catch (const CheckpointError& e) {
         spdlog::warn("job {}: unusable checkpoint ({}); it starts afresh", job, e.what());
       }

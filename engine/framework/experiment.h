@@ -37,11 +37,11 @@ class Experiment {
   virtual Headline headline() const = 0;
   /// The run's size and length from the parameters as they are, without building anything (cheap).
   virtual Workload workload() const = 0;
-  /// Runs with the parameters as they are, from the start or, `resume` not empty, from a checkpoint the
-  /// sink was given by a run of the same parameters (CheckpointError if it is not one). Throws Cancelled
+  /// Runs with the parameters as they are, from the start or, with `resume`, from a checkpoint the sink
+  /// was given by a run of the same parameters (CheckpointError if it is not one). Throws Cancelled
   /// when the sink asks to stop, std::invalid_argument for parameters the physics cannot run,
   /// std::runtime_error for a failed run.
-  virtual std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const = 0;
+  virtual std::unique_ptr<ExperimentResult> run(ResultSink& sink, const CheckpointSource* resume) const = 0;
 };
 
 }  // namespace granulab

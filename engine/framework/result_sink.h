@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/analysis/grain_snapshot.h"
+#include "engine/core/checkpoint.h"
 
 namespace granulab {
 
@@ -43,11 +44,13 @@ class ResultSink {
   /// Checkpoints (docs/architecture.md, "Checkpoints"): asked at the experiment's safe points, at least
   /// every few hundred steps; true when one should be written now.
   virtual bool checkpoint_due() { return false; }
-  /// The run's full state after `rows` curve rows and `snapshots` snapshots went to this sink: a run
-  /// resumed from it (Experiment::run) continues bit for bit, starting with row `rows` and snapshot
-  /// `snapshots`. Keep it with those counts, atomically.
-  virtual void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) {
-    (void)state, (void)rows, (void)snapshots;
+  /// The run's full state after `rows` curve rows and `snapshots` snapshots went to this sink, written by
+  /// `content` into a CheckpointWriter the sink makes (its chunks go where the sink keeps them, so the
+  /// state is never whole in memory): a run resumed from it (Experiment::run) continues bit for bit,
+  /// starting with row `rows` and snapshot `snapshots`. Keep it with those counts, atomically; a sink
+  /// that keeps none need not call `content` at all.
+  virtual void checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) {
+    (void)content, (void)rows, (void)snapshots;
   }
 };
 

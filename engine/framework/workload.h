@@ -35,7 +35,10 @@ struct Workload {
   /// Peak resident memory (bytes). Measured with bench/memory_per_sphere.py (bench/README.md,
   /// "Memory"): 9 MB + 56 B per sphere + 3,050 B per grain fits every size from 0.1 to 50 million
   /// spheres within 3 %; the margin here (70 B, 3,800 B, 16 MB) covers the rest and other compilers.
-  double peak_bytes() const { return 16e6 + 70.0 * spheres + 3800.0 * grains; }
+  /// Checkpoints add their chunks, not a copy of the state (engine/core/checkpoint.h): one being written
+  /// (16 MiB) or, when a run resumes, one fetched and the reader's buffers (18 MiB): kCheckpointBytes.
+  static constexpr double kCheckpointBytes = 40e6;
+  double peak_bytes() const { return 16e6 + kCheckpointBytes + 70.0 * spheres + 3800.0 * grains; }
 };
 
 }  // namespace granulab

@@ -162,6 +162,8 @@ Transport::Transport(const Router& router, const ConnectionOptions& options) : i
       if (ep) std::rethrow_exception(ep);
     } catch (const sqlite::StoreFull& e) {
       what = e.what(), full = true;
+    } catch (const sqlite::Error& e) {
+      what = std::string(e.what()) + " (in: " + e.sql + ")";  // the statement for the log only
     } catch (const std::exception& e) {
       what = e.what();
     } catch (...) {}

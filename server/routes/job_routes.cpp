@@ -43,6 +43,7 @@ void mount_job_routes(Router& router, const RouteContext& c) {
     }
     if (!c.admission.within_queue_quota(who, 1, res)) return;
     const double bytes = c.admission.expected_store_bytes(spec);
+    if (!c.admission.within_user_storage(who, bytes, res)) return;
     if (!c.admission.within_storage(bytes, res)) return;
     const std::int64_t id = c.store.submit(spec.normalized.dump(), experiment, spec.label, hash, api::engine_version(),
                                            who.name, int(priority), bytes);

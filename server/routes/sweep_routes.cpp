@@ -46,6 +46,7 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
       jobs.push_back({p.spec.normalized.dump(), p.spec.normalized["experiment"].get<std::string>(), label,
                       api::spec_hash(p.spec.normalized), p.values.dump(), job_bytes});
     }
+    if (!c.admission.within_user_storage(who, bytes, res)) return;
     if (!c.admission.within_storage(bytes, res)) return;
     SweepRecord record;
     record.label = sweep.label, record.owner = who.name, record.mode = sweep.mode;

@@ -13,6 +13,7 @@
 #include "server/resume_point.h"
 #include "server/http/replies.h"
 #include "server/routes/routes.h"
+#include "server/store/sqlite.h"
 
 namespace granulab::server {
 
@@ -55,9 +56,41 @@ bool still_running(const JobRecord& job, Response& res) {
   return false;
 }
 
+// A worker's write the store cannot hold: the job fails for it, the reserve file giving the room to say so,
+// so that it is neither left `running` nor run again after a restart; the worker is told 507 and stops.
+Handler failing_on_full_store(const RouteContext& c, Handler handler) {
+  return [c, handler = std::move(handler)](const Request& req, Response& res) {
+    try {
+      handler(req, res);
+    } catch (const sqlite::StoreFull& e) {
+      const auto id = path_id(req.matches[1]);
+      c.store.release_reserve();
+      try {
+        if (id)
+          c.store.fail(*id, std::string("the server's storage is full (its disk, or --max-db-mb): ") + e.what() +
+                                "; what was stored before is kept");
+      } catch (const std::exception&) {  // not even that: it stays running and is failed at the next start
+      }
+      error(res, 507, "storage_full",
+            "the server's storage is full (its disk, or --max-db-mb): the job has failed; stop");
+    }
+  };
+}
+
 }  // namespace
 
-void mount_worker_routes(Router& router, const RouteContext& c) {
+void mount_worker_routes(Router& http_router, const RouteContext& c) {
+  // Every route here through failing_on_full_store.
+  struct Guarded {
+    Router& to;
+    const RouteContext& c;
+    void get(const std::string& pattern, std::vector<std::string> params, Handler h) {
+      to.get(pattern, std::move(params), failing_on_full_store(c, std::move(h)));
+    }
+    void post(const std::string& pattern, std::vector<std::string> params, Handler h) {
+      to.post(pattern, std::move(params), failing_on_full_store(c, std::move(h)));
+    }
+  } router{http_router, c};
   // Start (or start again): the spec, and whether to resume from the stored checkpoint, whose results the
   // store trims to it now. The job is running from here on.
   router.get(R"(/v1/worker/jobs/(\d+))", {"engine_version"}, [c](const http::Request& req, http::Response& res) {
@@ -80,15 +113,28 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
     reply(res, 200, out);
   });
 
-  // The checkpoint to resume from (api::pack_resume's bytes).
+  // The checkpoint to resume from: its counts and chunks; each chunk is then a GET of its own.
   router.get(R"(/v1/worker/jobs/(\d+)/checkpoint)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = worker_job(c, req, res);
     if (!job) return;
     const auto cp = c.store.checkpoint(job->id);
     if (!cp) return error(res, 404, "not_found", "job " + std::to_string(job->id) + " has no checkpoint");
-    res.set_content(api::pack_resume({cp->state, std::size_t(cp->rows), std::size_t(cp->snapshots)}),
-                    "application/octet-stream");
+    reply(res, 200,
+          {{"generation", cp->generation}, {"chunks", cp->chunks}, {"bytes", cp->bytes}, {"rows", cp->rows},
+           {"snapshots", cp->snapshots}, {"engine_version", cp->engine_version}});
   });
+  router.get(R"(/v1/worker/jobs/(\d+)/checkpoint/(\d+)/(\d+))", {},
+             [c](const http::Request& req, http::Response& res) {
+               const auto job = worker_job(c, req, res);
+               if (!job) return;
+               const auto generation = path_id(req.matches[2]), index = path_id(req.matches[3]);
+               auto chunk = generation && index ? c.store.checkpoint_chunk(job->id, *generation, *index) : std::nullopt;
+               if (!chunk)
+                 return error(res, 404, "not_found",
+                              "job " + std::to_string(job->id) + " has no checkpoint chunk " + req.matches[2] + "/" +
+                                  req.matches[3] + " (replaced by a newer checkpoint?)");
+               res.set_content(std::move(*chunk), "application/octet-stream");
+             });
 
   // The curve's header; with resume_rows, a check that the store holds exactly the rows the checkpoint follows.
   router.post(R"(/v1/worker/jobs/(\d+)/begin)", {}, [c](const http::Request& req, http::Response& res) {
@@ -145,27 +191,60 @@ void mount_worker_routes(Router& router, const RouteContext& c) {
     reply(res, 200, {{"cancel", c.store.cancel_requested(job->id)}});
   });
 
-  // A checkpoint: the state after ?rows= curve rows and ?snapshots= snapshots (all sent before it).
+  // A checkpoint, sent in chunks beside the stored one: a generation for it, its chunks (at most
+  // CheckpointWriter::kChunkBytes each, in order), then the commit, which checks the whole (its frame and
+  // checksum: a torn upload is refused, not stored) and makes it the job's with the rows it follows.
+  router.post(R"(/v1/worker/jobs/(\d+)/checkpoint/begin)", {}, [c](const http::Request& req, http::Response& res) {
+    const auto job = worker_job(c, req, res);
+    if (!job) return;
+    if (!still_running(*job, res)) return;
+    reply(res, 200, {{"generation", c.store.begin_checkpoint(job->id)}});
+  });
+  router.post(R"(/v1/worker/jobs/(\d+)/checkpoint/(\d+)/(\d+))", {},
+              [c](const http::Request& req, http::Response& res) {
+                const auto job = worker_job(c, req, res);
+                if (!job) return;
+                if (!still_running(*job, res)) return;
+                const auto generation = path_id(req.matches[2]), index = path_id(req.matches[3]);
+                if (!generation || !index) return error(res, 400, "invalid_value", "bad chunk path", "chunk");
+                if (req.body.empty() || req.body.size() > CheckpointWriter::kChunkBytes)
+                  return error(res, 400, "invalid_value",
+                               "a checkpoint chunk holds 1 to " + std::to_string(CheckpointWriter::kChunkBytes) +
+                                   " bytes, not " + std::to_string(req.body.size()),
+                               "chunk");
+                if (!c.store.put_checkpoint_chunk(job->id, *generation, *index, req.body.data(), req.body.size()))
+                  return error(res, 409, "wrong_state",
+                               "no checkpoint " + req.matches[2] + " of job " + req.matches[1] +
+                                   " is being written (a newer one began, or the daemon restarted): begin again",
+                               "generation");
+                reply(res, 200, {{"stored", true}});
+              });
   router.post(
-      R"(/v1/worker/jobs/(\d+)/checkpoint)", {"rows", "snapshots", "engine_version"},
+      R"(/v1/worker/jobs/(\d+)/checkpoint)", {"generation", "chunks", "bytes", "rows", "snapshots", "engine_version"},
       [c](const http::Request& req, http::Response& res) {
         const auto job = worker_job(c, req, res);
         if (!job) return;
         if (!still_running(*job, res)) return;
-        long rows = -1, snapshots = -1;
-        if (!query_int(req, res, "rows", 0, 1L << 40, rows) ||
-            !query_int(req, res, "snapshots", 0, 1L << 20, snapshots))
+        long generation = -1, chunks = -1, bytes = -1, rows = -1, snapshots = -1;
+        if (!query_int(req, res, "generation", 1, 1L << 50, generation) ||
+            !query_int(req, res, "chunks", 1, 1L << 30, chunks) || !query_int(req, res, "bytes", 1, 1L << 50, bytes) ||
+            !query_int(req, res, "rows", 0, 1L << 40, rows) || !query_int(req, res, "snapshots", 0, 1L << 20, snapshots))
           return;
-        if (rows < 0 || snapshots < 0) return error(res, 400, "missing", "'rows' and 'snapshots' are required", "rows");
+        if (generation < 0 || chunks < 0 || bytes < 0 || rows < 0 || snapshots < 0)
+          return error(res, 400, "missing", "'generation', 'chunks', 'bytes', 'rows' and 'snapshots' are required",
+                       "generation");
         const std::string version = req.has_param("engine_version") ? req.get_param_value("engine_version") : "";
+        const JobStore::Checkpoint cp{generation, chunks, bytes, rows, snapshots, version};
         try {
-          CheckpointReader whole(req.body);  // its frame and checksum: a torn upload is refused, not stored
+          verify_checkpoint(stored_checkpoint_source(c.store, job->id, cp));
         } catch (const CheckpointError& e) {
+          c.store.end_checkpoint_write(job->id, generation);
           return error(res, 400, "invalid_value", std::string("unreadable checkpoint: ") + e.what(), "checkpoint");
         }
-        const JobStore::Checkpoint cp{req.body, rows, snapshots, version};
         c.store.append_results(job->id, std::size_t(rows), {}, {}, &cp);
+        c.store.end_checkpoint_write(job->id, generation);
         reply(res, 200, {{"stored", true}});
+        c.store.drop_checkpoint_garbage(std::size_t(-1));  // the previous checkpoint's chunks
       });
 
   // How the run ended: succeeded (with its summary; the curve is the rows sent), failed, cancelled, or

@@ -168,6 +168,7 @@ void SlurmExecutor::submit_queued() {
                    {"GRANULAB_WORKER_JOBS", entries},
                    // Slurm sets SLURM_CPUS_PER_TASK for sbatch --cpus-per-task, not for a REST submission.
                    {"GRANULAB_CPUS", std::to_string(batch.threads)}}}};
+    if (!options_.worker_ca_file.empty()) desc["environment"]["GRANULAB_CA_FILE"] = options_.worker_ca_file;
     // The warning comes `signal_seconds` before the limit; for short limits, halfway through.
     desc["signal"] = "USR1@" + std::to_string(std::min(options_.signal_seconds, batch.minutes * 30));
     if (!options_.partition.empty()) desc["partition"] = options_.partition;

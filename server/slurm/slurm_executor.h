@@ -36,6 +36,7 @@ struct ExecutorOptions {
   std::string partition;             ///< empty: the cluster's default
   std::string public_url;            ///< where workers reach this daemon, e.g. http://10.0.0.5:8080
   std::string worker_binary;         ///< the granulab binary on the nodes (default: next to granulabd)
+  std::string worker_ca_file;        ///< the CA a worker trusts for an https public_url, as the nodes see it (or none)
   std::string output = "/dev/null";  ///< the Slurm jobs' standard output and error (Slurm's patterns, e.g. %j)
   int threads_per_job = 1;           ///< cpus_per_task of a job whose spec leaves run.threads at 0
   double checkpoint_seconds = 60;

@@ -98,6 +98,7 @@ bool JobStore::finish_locked(std::int64_t id, JobStatus to, std::initializer_lis
   st.bind(1, id).bind(2, api::status_name(to)).bind(3, now_ms()).run();
   log_event_locked(id, api::status_name(to), event);
   drop_checkpoint_locked(id);  // a finished job is never resumed
+  settle_stored_bytes_locked(id);
   return true;
 }
 
@@ -112,6 +113,7 @@ bool JobStore::succeed(std::int64_t id, const std::string& summary_json, const s
   curve.bind(1, id).bind(2, curve_csv).bind(3, curve_json).run();
   Statement rows(*db_, "DELETE FROM curve_rows WHERE job_id = ?1");  // the whole curve replaces them
   rows.bind(1, id).run();
+  settle_stored_bytes_locked(id);  // with the whole curve and summary now
   tx.commit();
   return true;
 }

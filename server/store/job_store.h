@@ -17,7 +17,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "api/job_status.h"
@@ -158,16 +160,38 @@ class JobStore {
   void start_curve(std::int64_t id, const std::string& header);
   /// Appends curve lines (newline included) numbered from `first_index`, and snapshots, in one
   /// transaction. Ignored unless the job is running.
-  /// A running job's checkpoint: the engine's state after `rows` curve rows and `snapshots` snapshots.
+  /// A running job's checkpoint: the engine's state after `rows` curve rows and `snapshots` snapshots,
+  /// stored as `chunks` chunks (rows of checkpoint_chunks, each at most CheckpointWriter::kChunkBytes)
+  /// of `bytes` in all, under its `generation`. A checkpoint's chunks are written one per transaction
+  /// while the previous checkpoint stays the job's; append_results then switches to the new generation in
+  /// one transaction with the rows and snapshots it follows. Chunks of no checkpoint (replaced, dropped,
+  /// or of a write that never finished) are garbage that drop_checkpoint_garbage removes a chunk at a
+  /// time, so that no transaction ever holds the store for a whole large checkpoint.
   struct Checkpoint {
-    std::string state;
+    std::int64_t generation = 0, chunks = 0, bytes = 0;
     std::int64_t rows = 0, snapshots = 0;
     std::string engine_version;  ///< of the build that wrote it: another build starts the job afresh
   };
-  /// With `checkpoint`, stores it in the same transaction as the rows and snapshots it goes with.
+  /// A new checkpoint of a running job begins: its generation. An earlier write of the job still under
+  /// way is abandoned.
+  std::int64_t begin_checkpoint(std::int64_t id);
+  /// Chunk `index` of generation `generation` (from begin_checkpoint), in its own short transaction;
+  /// false, and nothing stored, unless that write is under way (not ended, nor replaced by a later
+  /// begin_checkpoint of the job, nor begun before the daemon restarted). Throws sqlite::StoreFull when
+  /// the store cannot hold it (then end_checkpoint_write and give up).
+  bool put_checkpoint_chunk(std::int64_t id, std::int64_t generation, std::int64_t index, const char* data,
+                            std::size_t size);
+  /// The write of `generation` is over, stored by append_results or given up (its chunks are garbage).
+  void end_checkpoint_write(std::int64_t id, std::int64_t generation);
+  /// With `checkpoint` (its chunks all put), makes it the job's in the same transaction as the rows and
+  /// snapshots it goes with; the previous checkpoint's chunks become garbage.
   void append_results(std::int64_t id, std::size_t first_index, const std::vector<api::StoredRow>& rows,
                       const std::vector<SnapshotBlob>& snapshots, const Checkpoint* checkpoint = nullptr);
   std::optional<Checkpoint> checkpoint(std::int64_t id);
+  /// One chunk of a stored checkpoint; nullopt if it is gone (the checkpoint was replaced or dropped).
+  std::optional<std::string> checkpoint_chunk(std::int64_t id, std::int64_t generation, std::int64_t index);
+  /// Removes up to `max_chunks` chunks that belong to no checkpoint (one transaction each); how many.
+  std::size_t drop_checkpoint_garbage(std::size_t max_chunks);
   /// Before a resumed run: drops the rows and snapshots made after the checkpoint (they are made again).
   void trim_results(std::int64_t id, std::int64_t rows, std::int64_t snapshots);
   /// A job that starts afresh after all (e.g. its checkpoint is of another build): drops the checkpoint
@@ -244,6 +268,10 @@ class JobStore {
     bool limited = false;  ///< false for an in-memory store (no limit known)
   };
   Space space();
+  /// What `owner`'s jobs hold or may still write (B): the expected_bytes of those queued or running, and what
+  /// each finished one stores (its spec, curve, rows and snapshots, counted when it finished). The per-user
+  /// quota of --max-user-mb (docs/api.md, "Budgets").
+  double user_bytes(const std::string& owner);
   /// A file of a few MB beside the database, made at open when the disk has room: deleted when the store is
   /// full, so that the failure of a job (and a cancel) can still be written. True when there was one.
   bool release_reserve();
@@ -260,12 +288,15 @@ class JobStore {
   /// False, and nothing changed, when the job is unknown or not in `from`.
   bool finish_locked(std::int64_t id, JobStatus to, std::initializer_list<JobStatus> from, const std::string& event);
   void drop_checkpoint_locked(std::int64_t id);
+  /// A finished job's expected_bytes becomes what it stores (its checkpoint is gone): user_bytes counts that.
+  void settle_stored_bytes_locked(std::int64_t id);
   void log_event_locked(std::int64_t job_id, const std::string& kind, const std::string& message);
   std::optional<JobRecord> get_locked(std::int64_t id);
   std::optional<std::string> curve_column(std::int64_t id, const char* column);
 
   std::mutex mutex_;
   std::unique_ptr<sqlite::Database> db_;
+  std::set<std::pair<std::int64_t, std::int64_t>> checkpoint_writes_;  ///< (job, generation) being written
   std::int64_t max_bytes_ = 0;
   std::string reserve_path_;  ///< empty: none (in memory, or no room for it at open)
 };

@@ -132,6 +132,34 @@ CREATE INDEX jobs_by_owner ON jobs (owner, status, started_ms);
     R"sql(
 ALTER TABLE jobs ADD COLUMN expected_bytes REAL NOT NULL DEFAULT 0;
 )sql",
+    // 9: checkpoints in chunks (JobStore::Checkpoint): one blob per checkpoint failed above ~1 GB
+    // (SQLite's limit) and held the whole state in memory. A chunk belongs to its checkpoint by generation;
+    // no foreign key, so that deleting a job never drops gigabytes in one transaction (the chunks become
+    // garbage, removed a chunk at a time). The stored checkpoints become generation 1, one chunk each.
+    R"sql(
+CREATE TABLE checkpoint_chunks (
+  job_id     INTEGER NOT NULL,
+  generation INTEGER NOT NULL,
+  idx        INTEGER NOT NULL,
+  data       BLOB    NOT NULL,
+  PRIMARY KEY (job_id, generation, idx)
+);
+CREATE TABLE checkpoints_chunked (
+  job_id         INTEGER PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
+  generation     INTEGER NOT NULL,
+  chunks         INTEGER NOT NULL,
+  bytes          INTEGER NOT NULL,
+  rows           INTEGER NOT NULL,
+  snapshots      INTEGER NOT NULL,
+  engine_version TEXT    NOT NULL,
+  at_ms          INTEGER NOT NULL
+);
+INSERT INTO checkpoint_chunks (job_id, generation, idx, data) SELECT job_id, 1, 0, state FROM checkpoints;
+INSERT INTO checkpoints_chunked SELECT job_id, 1, 1, length(state), rows, snapshots, engine_version, at_ms
+  FROM checkpoints;
+DROP TABLE checkpoints;
+ALTER TABLE checkpoints_chunked RENAME TO checkpoints;
+)sql",
 };
 
 constexpr std::size_t kMigrationCount = sizeof(kMigrations) / sizeof(kMigrations[0]);

@@ -61,14 +61,16 @@ void JobStore::append_results(std::int64_t id, std::size_t first_index, const st
     snap.bind_blob(4, std::vector<std::uint8_t>(b.data.begin(), b.data.end())).run();
   }
   if (checkpoint) {
+    // The new checkpoint's chunks are all in (put_checkpoint_chunk): it becomes the job's now, and the
+    // previous one's chunks garbage (drop_checkpoint_garbage).
     Statement cp(*db_,
-                 "INSERT OR REPLACE INTO checkpoints (job_id, state, rows, snapshots, engine_version, at_ms) "
-                 "VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
-    cp.bind(1, id).bind_blob(2, std::vector<std::uint8_t>(checkpoint->state.begin(), checkpoint->state.end()));
-    cp.bind(3, checkpoint->rows)
-        .bind(4, checkpoint->snapshots)
-        .bind(5, checkpoint->engine_version)
-        .bind(6, now_ms())
+                 "INSERT OR REPLACE INTO checkpoints (job_id, generation, chunks, bytes, rows, snapshots, "
+                 "engine_version, at_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
+    cp.bind(1, id).bind(2, checkpoint->generation).bind(3, checkpoint->chunks).bind(4, checkpoint->bytes);
+    cp.bind(5, checkpoint->rows)
+        .bind(6, checkpoint->snapshots)
+        .bind(7, checkpoint->engine_version)
+        .bind(8, now_ms())
         .run();
   }
   tx.commit();
@@ -76,11 +78,84 @@ void JobStore::append_results(std::int64_t id, std::size_t first_index, const st
 
 std::optional<JobStore::Checkpoint> JobStore::checkpoint(std::int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Statement st(*db_, "SELECT state, rows, snapshots, engine_version FROM checkpoints WHERE job_id = ?1");
+  Statement st(*db_,
+               "SELECT generation, chunks, bytes, rows, snapshots, engine_version FROM checkpoints WHERE job_id = ?1");
   st.bind(1, id);
   if (!st.step()) return std::nullopt;
-  const std::vector<std::uint8_t> blob = st.column_blob(0);
-  return Checkpoint{std::string(blob.begin(), blob.end()), st.column_int64(1), st.column_int64(2), st.column_text(3)};
+  return Checkpoint{st.column_int64(0), st.column_int64(1), st.column_int64(2),
+                    st.column_int64(3), st.column_int64(4), st.column_text(5)};
+}
+
+std::int64_t JobStore::begin_checkpoint(std::int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // Above every generation the job has or had (garbage not yet removed included): a new one never mixes
+  // with chunks of another.
+  Statement st(*db_,
+               "SELECT max(coalesce((SELECT max(generation) FROM checkpoint_chunks WHERE job_id = ?1), 0), "
+               "coalesce((SELECT generation FROM checkpoints WHERE job_id = ?1), 0))");
+  st.bind(1, id);
+  std::int64_t generation = st.step() ? st.column_int64(0) + 1 : 1;
+  // A job has one run, so one write at a time: an earlier one of it was abandoned (its chunks garbage).
+  for (auto w = checkpoint_writes_.begin(); w != checkpoint_writes_.end();)
+    if (w->first == id) {
+      generation = std::max(generation, w->second + 1);
+      w = checkpoint_writes_.erase(w);
+    } else {
+      ++w;
+    }
+  checkpoint_writes_.insert({id, generation});
+  return generation;
+}
+
+bool JobStore::put_checkpoint_chunk(std::int64_t id, std::int64_t generation, std::int64_t index, const char* data,
+                                    std::size_t size) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!checkpoint_writes_.count({id, generation})) return false;  // never the stored checkpoint's chunks
+  Statement st(*db_,
+               "INSERT OR REPLACE INTO checkpoint_chunks (job_id, generation, idx, data) VALUES (?1, ?2, ?3, ?4)");
+  st.bind(1, id).bind(2, generation).bind(3, index).bind_blob_in_place(4, data, size).run();
+  return true;
+}
+
+void JobStore::end_checkpoint_write(std::int64_t id, std::int64_t generation) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  checkpoint_writes_.erase({id, generation});
+}
+
+std::optional<std::string> JobStore::checkpoint_chunk(std::int64_t id, std::int64_t generation, std::int64_t index) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // Only the job's stored checkpoint is read: a torn write's or a superseded one's chunks, garbage until
+  // dropped, are never a resume point.
+  Statement st(*db_,
+               "SELECT c.data FROM checkpoint_chunks c JOIN checkpoints k ON k.job_id = c.job_id AND "
+               "k.generation = c.generation WHERE c.job_id = ?1 AND c.generation = ?2 AND c.idx = ?3");
+  st.bind(1, id).bind(2, generation).bind(3, index);
+  if (!st.step()) return std::nullopt;
+  return st.column_blob_string(0);
+}
+
+std::size_t JobStore::drop_checkpoint_garbage(std::size_t max_chunks) {
+  std::size_t dropped = 0;
+  while (dropped < max_chunks) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // One chunk of no checkpoint and of no write under way, per transaction: each holds the store for
+    // one chunk's pages at most.
+    Statement st(*db_,
+                 "SELECT c.rowid, c.job_id, c.generation FROM checkpoint_chunks c LEFT JOIN checkpoints k "
+                 "ON k.job_id = c.job_id AND k.generation = c.generation WHERE k.job_id IS NULL");
+    std::int64_t rowid = -1;
+    while (st.step())
+      if (!checkpoint_writes_.count({st.column_int64(1), st.column_int64(2)})) {
+        rowid = st.column_int64(0);
+        break;
+      }
+    st.reset();
+    if (rowid < 0) break;
+    Statement drop(*db_, "DELETE FROM checkpoint_chunks WHERE rowid = ?1");
+    drop.bind(1, rowid).run();
+    ++dropped;
+  }
+  return dropped;
 }
 
 void JobStore::trim_results(std::int64_t id, std::int64_t rows, std::int64_t snapshots) {

@@ -53,7 +53,7 @@ void Database::exec(const std::string& sql) {
     std::string text = message ? message : sqlite3_errstr(rc);
     sqlite3_free(message);
     if ((rc & 0xff) == SQLITE_FULL) throw StoreFull("sqlite: " + text);
-    throw std::runtime_error("sqlite: " + text + " (in: " + sql.substr(0, 120) + ")");
+    throw Error("sqlite: " + text, sql.substr(0, 200));
   }
 }
 
@@ -63,8 +63,8 @@ int Database::changes() const { return sqlite3_changes(db_); }
 
 bool Database::autocommit() const { return sqlite3_get_autocommit(db_) != 0; }
 
-void Database::throw_error(const std::string& context) const {
-  throw std::runtime_error("sqlite: " + context + ": " + sqlite3_errmsg(db_));
+void Database::throw_error(const std::string& context, const std::string& sql) const {
+  throw Error("sqlite: " + context + ": " + sqlite3_errmsg(db_), sql.substr(0, 200));
 }
 
 // --------------------------------------------------------------------------------------------- Statement
@@ -74,14 +74,14 @@ Statement::Statement(Database& db, const std::string& sql) : db_(db), sql_(sql) 
   if (rc != SQLITE_OK) {
     sqlite3_finalize(stmt_);
     stmt_ = nullptr;
-    db_.throw_error("prepare '" + sql + "'");
+    db_.throw_error("prepare", sql);
   }
 }
 
 Statement::~Statement() { sqlite3_finalize(stmt_); }
 
 void Statement::check_bind(int rc, int index) {
-  if (rc != SQLITE_OK) db_.throw_error("bind ?" + std::to_string(index) + " of '" + sql_ + "'");
+  if (rc != SQLITE_OK) db_.throw_error("bind ?" + std::to_string(index), sql_);
 }
 
 Statement& Statement::bind(int index, std::int64_t value) {
@@ -107,6 +107,13 @@ Statement& Statement::bind_blob(int index, const std::vector<std::uint8_t>& valu
   return *this;
 }
 
+Statement& Statement::bind_blob_in_place(int index, const void* data, std::size_t size) {
+  const int rc = size == 0 ? sqlite3_bind_zeroblob(stmt_, index, 0)
+                           : sqlite3_bind_blob64(stmt_, index, data, size, SQLITE_STATIC);
+  check_bind(rc, index);
+  return *this;
+}
+
 Statement& Statement::bind_null(int index) {
   check_bind(sqlite3_bind_null(stmt_, index), index);
   return *this;
@@ -117,10 +124,10 @@ bool Statement::step() {
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
   // The message must be read before reset(), which would replace it.
-  const std::string message = std::string("sqlite: step '") + sql_ + "': " + sqlite3_errmsg(db_.handle());
+  const std::string message = std::string("sqlite: ") + sqlite3_errmsg(db_.handle());
   sqlite3_reset(stmt_);
   if ((rc & 0xff) == SQLITE_FULL) throw StoreFull(std::string("sqlite: ") + sqlite3_errstr(rc));
-  throw std::runtime_error(message);
+  throw Error(message, sql_.substr(0, 200));
 }
 
 void Statement::run() {
@@ -146,6 +153,12 @@ std::vector<std::uint8_t> Statement::column_blob(int column) const {
   const auto* data = static_cast<const std::uint8_t*>(sqlite3_column_blob(stmt_, column));
   const int bytes = sqlite3_column_bytes(stmt_, column);
   return data ? std::vector<std::uint8_t>(data, data + bytes) : std::vector<std::uint8_t>();
+}
+
+std::string Statement::column_blob_string(int column) const {
+  const auto* data = static_cast<const char*>(sqlite3_column_blob(stmt_, column));
+  const int bytes = sqlite3_column_bytes(stmt_, column);
+  return data ? std::string(data, static_cast<std::size_t>(bytes)) : std::string();
 }
 
 // ------------------------------------------------------------------------------------------- Transaction

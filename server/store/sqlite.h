@@ -9,12 +9,20 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 struct sqlite3;
 struct sqlite3_stmt;
 
 namespace granulab::server::sqlite {
+
+/// An SQLite error: what() is SQLite's message and what was being done, which users may read (a 500's
+/// message, a failed job's reason); the statement is kept apart, for logs, since SQL is no user's business.
+struct Error : std::runtime_error {
+  Error(const std::string& message, std::string statement) : std::runtime_error(message), sql(std::move(statement)) {}
+  std::string sql;  ///< the statement that failed (the first 200 characters)
+};
 
 /// The database cannot grow: the disk is full, or the file reached the size it may have
 /// (JobStore's max_bytes). Writes fail with this, so callers can say so instead of "internal error".
@@ -40,8 +48,8 @@ class Database {
   int changes() const;
   /// True outside any explicit transaction.
   bool autocommit() const;
-  /// Throws std::runtime_error("<context>: <SQLite's message for the last error>").
-  [[noreturn]] void throw_error(const std::string& context) const;
+  /// Throws Error("sqlite: <context>: <SQLite's message for the last error>", sql).
+  [[noreturn]] void throw_error(const std::string& context, const std::string& sql = "") const;
 
   sqlite3* handle() const { return db_; }
   const std::string& path() const { return path_; }
@@ -67,6 +75,9 @@ class Statement {
   Statement& bind(int index, const char* value) { return bind(index, std::string(value)); }
   /// Binds a BLOB (an empty vector binds a zero-length blob, not NULL).
   Statement& bind_blob(int index, const std::vector<std::uint8_t>& value);
+  /// Binds `size` bytes at `data` as a BLOB without copying them (a checkpoint's chunk): they must stay
+  /// as they are until the statement has run.
+  Statement& bind_blob_in_place(int index, const void* data, std::size_t size);
   Statement& bind_null(int index);
 
   /// Advances one row: true if a row is available, false when done; throws on error.
@@ -84,6 +95,8 @@ class Statement {
   std::string column_text(int column) const;
   /// Bytes of the column (empty for NULL or a zero-length blob).
   std::vector<std::uint8_t> column_blob(int column) const;
+  /// The same bytes as a string.
+  std::string column_blob_string(int column) const;
 
  private:
   void check_bind(int rc, int index);

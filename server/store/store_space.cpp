@@ -63,6 +63,24 @@ bool JobStore::release_reserve() {
   return removed;
 }
 
+double JobStore::user_bytes(const std::string& owner) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  sqlite::Statement st(*db_, "SELECT coalesce(sum(expected_bytes), 0) FROM jobs WHERE owner = ?1");
+  st.bind(1, owner);
+  return st.step() ? st.column_double(0) : 0.0;
+}
+
+void JobStore::settle_stored_bytes_locked(std::int64_t id) {
+  // length() of a blob reads its size from the record, not its pages; the texts are one job's, read once.
+  sqlite::Statement st(*db_,
+                       "UPDATE jobs SET expected_bytes = length(spec_json) + length(summary_json) + "
+                       "coalesce((SELECT sum(length(data)) FROM snapshots WHERE job_id = ?1), 0) + "
+                       "coalesce((SELECT length(csv) + length(json) FROM curves WHERE job_id = ?1), 0) + "
+                       "coalesce((SELECT sum(length(line) + length(row_values)) FROM curve_rows WHERE job_id = ?1), 0) "
+                       "WHERE id = ?1");
+  st.bind(1, id).run();
+}
+
 JobStore::Space JobStore::space() {
   std::lock_guard<std::mutex> lock(mutex_);
   Space s;

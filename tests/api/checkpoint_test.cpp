@@ -39,10 +39,12 @@ class DyingSink : public MemorySink {
     if (taken_ >= die_after_ && die_after_ > 0 && linger_-- <= 0) throw Died();
     return true;
   }
-  void checkpoint(const std::string& state, std::size_t rows, std::size_t snapshots) override {
-    last = Resume{state, rows, snapshots};
+  void checkpoint(const CheckpointContent& content, std::size_t rows, std::size_t snapshots) override {
+    state = checkpoint_bytes(content);
+    last = Resume{checkpoint_source(state), rows, snapshots};
     ++taken_;
   }
+  std::string state;  ///< the last checkpoint's bytes
   std::optional<Resume> last;
   int taken_ = 0;
 
@@ -127,15 +129,67 @@ TEST(Checkpoints, AnotherSpecsOrADamagedCheckpointIsRefused) {
   MemorySink other;
   EXPECT_THROW(run(parse_spec(bigger), other, &*first.last), CheckpointError);
 
-  Resume damaged = *first.last;
-  damaged.state[damaged.state.size() / 2] ^= 0x01;
+  std::string bytes = first.state;
+  bytes[bytes.size() / 2] ^= 0x01;
+  Resume damaged{checkpoint_source(bytes), first.last->rows, first.last->snapshots};
   MemorySink sink;
   EXPECT_THROW(run(spec, sink, &damaged), CheckpointError);
-  Resume cut = *first.last;
-  cut.state.resize(cut.state.size() - 100);
+  Resume cut{checkpoint_source(first.state.substr(0, first.state.size() - 100)), first.last->rows, 0};
   EXPECT_THROW(run(spec, sink, &cut), CheckpointError);
-  EXPECT_THROW(unpack_resume("short"), CheckpointError);
-  EXPECT_EQ(unpack_resume(pack_resume(*first.last)).rows, first.last->rows);
+  Resume nothing{checkpoint_source("short"), 0, 0};
+  EXPECT_THROW(run(spec, sink, &nothing), CheckpointError);
+}
+
+// The writer's chunks: whatever their size, the bytes are those of the whole (the chunk size is the
+// writer's only memory), no chunk exceeds it, and a reader over the chunks, fetched one at a time,
+// restores the run as from the whole. A chunk missing reads as a truncated checkpoint.
+TEST(Checkpoints, ChunksOfAnySizeMakeTheSameCheckpoint) {
+  const Spec spec = parse_spec_text(kSpecs.at("crystal_compression"));
+  struct ChunkingSink : MemorySink {
+    bool checkpoint_due() override { return chunks.empty(); }
+    void checkpoint(const CheckpointContent& content, std::size_t r, std::size_t s) override {
+      whole = checkpoint_bytes(content);
+      CheckpointWriter w([this](const char* data, std::size_t n) { chunks.emplace_back(data, n); }, 1000);
+      content(w);
+      w.finish();
+      rows = r, snapshots = s;
+    }
+    std::string whole;
+    std::vector<std::string> chunks;
+    std::size_t rows = 0, snapshots = 0;
+  } taken;
+  DyingSink direct(0, 0);
+  run(spec, direct);
+  run(spec, taken);
+  ASSERT_GT(taken.chunks.size(), 10u);
+  std::string joined;
+  for (const std::string& c : taken.chunks) {
+    EXPECT_LE(c.size(), 1000u);
+    joined += c;
+  }
+  EXPECT_EQ(joined, taken.whole);
+  std::size_t fetched = 0;
+  Resume from{chunked_checkpoint_source(joined.size(), std::int64_t(taken.chunks.size()),
+                                        [&](std::int64_t k) {
+                                          ++fetched;
+                                          return taken.chunks.at(std::size_t(k));
+                                        }),
+              taken.rows, taken.snapshots};
+  MemorySink resumed;
+  resumed.curve_csv_ = taken.curve_csv_;
+  resumed.snapshots_ = taken.snapshots_;
+  run(spec, resumed, &from);
+  EXPECT_EQ(resumed.curve_csv_, direct.curve_csv_);
+  // The checksum's pass, then the restore's (which need not fetch a last chunk holding only the checksum).
+  EXPECT_GE(fetched, 2 * taken.chunks.size() - 1);
+  EXPECT_LE(fetched, 2 * taken.chunks.size());
+  Resume holed{chunked_checkpoint_source(joined.size(), std::int64_t(taken.chunks.size()),
+                                         [&](std::int64_t k) {
+                                           return k == 3 ? std::string() : taken.chunks.at(std::size_t(k));
+                                         }),
+               taken.rows, taken.snapshots};
+  MemorySink sink;
+  EXPECT_THROW(run(spec, sink, &holed), CheckpointError);
 }
 
 }  // namespace

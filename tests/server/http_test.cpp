@@ -465,15 +465,18 @@ TEST_F(Daemon, AMismatchedCheckpointStartsTheJobAfresh) {
   struct FirstCheckpoint : api::MemorySink {
     std::string state;
     bool checkpoint_due() override { return state.empty(); }
-    void checkpoint(const std::string& s, std::size_t, std::size_t) override { state = s; }
+    void checkpoint(const CheckpointContent& c, std::size_t, std::size_t) override { state = checkpoint_bytes(c); }
   } capture;
   api::run(api::parse_spec_text(kTwoCube), capture);
   ASSERT_FALSE(capture.state.empty());
   const std::int64_t id = post("/v1/jobs", kTwoCube, 201)["id"];
   ASSERT_EQ(store_->claim_next()->id, id);
   store_->start_curve(id, "slide_over_size,normal_over_p0,tangential_over_p0,normal_force,tangential_force\n");
-  const JobStore::Checkpoint cp{capture.state, 5, 0, api::engine_version()};
+  const JobStore::Checkpoint cp{store_->begin_checkpoint(id), 1, std::int64_t(capture.state.size()), 5, 0,
+                                api::engine_version()};
+  ASSERT_TRUE(store_->put_checkpoint_chunk(id, cp.generation, 0, capture.state.data(), capture.state.size()));
   store_->append_results(id, 0, {}, {}, &cp);
+  store_->end_checkpoint_write(id, cp.generation);
   ASSERT_EQ(store_->requeue_running(), 1u);
   pool_->start();
   ASSERT_EQ(wait(id)["status"], "succeeded");

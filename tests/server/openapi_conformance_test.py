@@ -778,8 +778,14 @@ class OpenApiConformanceTest(unittest.TestCase):
         # unknown job answers the same.
         worker = [("GET /v1/worker/jobs/{id}", "", None, "application/json"),
                   ("GET /v1/worker/jobs/{id}/checkpoint", "/checkpoint", None, "application/json"),
-                  ("POST /v1/worker/jobs/{id}/checkpoint", "/checkpoint?rows=0&snapshots=0&engine_version=x",
-                   b"\x00checkpoint", "application/octet-stream"),
+                  ("GET /v1/worker/jobs/{id}/checkpoint/{generation}/{index}", "/checkpoint/1/0", None,
+                   "application/octet-stream"),
+                  ("POST /v1/worker/jobs/{id}/checkpoint/begin", "/checkpoint/begin", b"", "application/json"),
+                  ("POST /v1/worker/jobs/{id}/checkpoint/{generation}/{index}", "/checkpoint/1/0", b"\x00chunk",
+                   "application/octet-stream"),
+                  ("POST /v1/worker/jobs/{id}/checkpoint",
+                   "/checkpoint?generation=1&chunks=1&bytes=1&rows=0&snapshots=0&engine_version=x", b"",
+                   "application/octet-stream"),
                   ("POST /v1/worker/jobs/{id}/begin", "/begin", dumps({"header": "a,b\n"}), "application/json"),
                   ("POST /v1/worker/jobs/{id}/results", "/results",
                    dumps({"first_index": 0, "lines": ["1,2\n"], "snapshots": [], "progress": 0.5}), "application/json"),
@@ -797,7 +803,8 @@ class OpenApiConformanceTest(unittest.TestCase):
             if wop.startswith("GET /v1/worker/jobs/{id}") and tail == "":
                 cases.append(G(wop, f"/v1/worker/jobs/{d}?engine_version=0.0", headers=WRONG_WORKER, expect=403))
             if wop == "POST /v1/worker/jobs/{id}/checkpoint":
-                for q in ["rows=-1&snapshots=0", "rows=abc&snapshots=0"]:
+                for q in ["generation=1&chunks=1&bytes=1&rows=-1&snapshots=0",
+                          "generation=1&chunks=1&bytes=1&rows=abc&snapshots=0"]:
                     cases.append(G(wop, f"/v1/worker/jobs/{d}/checkpoint?{q}", body=body, headers=dict(h, **WRONG_WORKER),
                                    expect=403, what="bad rows, checked after the secret"))
             cases += self.transport_cases(wop, f"/v1/worker/jobs/{d}{tail}", body, ctype)
@@ -1017,12 +1024,17 @@ class OpenApiConformanceTest(unittest.TestCase):
                         Case(op, path, headers=AS_NOBODY, expect=200, what="open: an unknown token")]
         for op, tail, body in [("GET /v1/worker/jobs/{id}", "", None),
                                ("GET /v1/worker/jobs/{id}/checkpoint", "/checkpoint", None),
-                               ("POST /v1/worker/jobs/{id}/checkpoint", "/checkpoint?rows=0&snapshots=0", b"\x00"),
+                               ("GET /v1/worker/jobs/{id}/checkpoint/{generation}/{index}", "/checkpoint/1/0", None),
+                               ("POST /v1/worker/jobs/{id}/checkpoint/begin", "/checkpoint/begin", b""),
+                               ("POST /v1/worker/jobs/{id}/checkpoint/{generation}/{index}", "/checkpoint/1/0",
+                                b"\x00"),
+                               ("POST /v1/worker/jobs/{id}/checkpoint",
+                                "/checkpoint?generation=1&chunks=1&bytes=1&rows=0&snapshots=0", b""),
                                ("POST /v1/worker/jobs/{id}/begin", "/begin", dumps({"header": "a\n"})),
                                ("POST /v1/worker/jobs/{id}/results", "/results",
                                 dumps({"first_index": 0, "lines": [], "snapshots": [], "progress": 0})),
                                ("POST /v1/worker/jobs/{id}/end", "/end", dumps({"outcome": "cancelled"}))]:
-            h = {"Content-Type": "application/octet-stream"} if "checkpoint?" in tail else {}
+            h = {"Content-Type": "application/octet-stream"} if "checkpoint" in tail and body is not None else {}
             u_cases += [Case(op, f"/v1/worker/jobs/{ub}{tail}", body, h, expect=403, what="no worker secret, no token"),
                         Case(op, f"/v1/worker/jobs/{ub}{tail}", body, dict(h, **AS_BOSS), expect=403,
                              what="an admin's token is no worker secret")]

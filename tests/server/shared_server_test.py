@@ -7,6 +7,7 @@ a real SQLite file and a real token file:
   and a bad file keeps the old tokens; the daemon survives SIGHUP whatever it holds;
 - on a private server, ?reuse=true never hands one user another's job (an existence oracle);
 - a sweep that would store more than --max-sweep-mb of specs is refused before any point is made;
+- a user past --max-user-mb is refused (507 storage_quota) while another is not;
 - a spec sent as `curl -d` sends it (form-urlencoded) is read up to the body limit, not refused at 8 KiB;
 - a header line up to 8,000 bytes is read, one over gets 431 naming the limit, a head over 16 KiB too;
 - a path with %0a or %1b writes one log line, its control characters escaped;
@@ -197,6 +198,41 @@ class PrivateReuseTest(unittest.TestCase):
                                           {"Authorization": "Bearer " + admin, "Content-Type": "application/json"})
             self.assertEqual(status, 200, body)
             self.assertIn(json.loads(body)["id"], (first, bobs))
+        finally:
+            daemon.stop()
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+class UserQuotaTest(unittest.TestCase):
+    def test_a_user_past_max_user_mb_is_refused_and_others_are_not(self):
+        """--max-user-mb 1: alice fills her share with queued jobs (each counted at what it may write) and the
+        next one answers 507 storage_quota naming the limit, while bob's is queued; once her queued jobs are
+        cancelled they count at what they store (their spec), and she may submit again."""
+        folder = tempfile.mkdtemp(prefix="granulab_quota_")
+        file = os.path.join(folder, "tokens")
+        alice = token_add(file, "alice").stdout.strip()
+        bob = token_add(file, "bob").stdout.strip()
+        daemon = Daemon(folder, "--token-file", file, "--max-user-mb", "1", "--checkpoint-seconds", "0")
+        try:
+            a, b = daemon.client(alice), daemon.client(bob)
+            ids = [a.submit(LONGER)]  # holds the only worker while the rest queue
+            refusal = None
+            for _ in range(1000):
+                try:
+                    ids.append(a.submit(TINY))
+                except GranulabError as e:
+                    refusal = e
+                    break
+            self.assertIsNotNone(refusal, "1000 submissions and no quota")
+            self.assertEqual((refusal.status, refusal.code), (507, "storage_quota"), str(refusal))
+            self.assertIn("--max-user-mb", str(refusal))
+            self.assertIn("alice", str(refusal))
+            self.assertGreater(len(ids), 20)  # a few KB each: many fit in 1 MB
+            self.assertEqual(b.status(b.submit(TINY))["status"], "queued")  # bob's share is his own
+            for job in ids[1:]:
+                a.cancel(job)
+            job = a.submit(TINY)
+            self.assertEqual(a.wait(job, timeout=120)["status"], "succeeded")
         finally:
             daemon.stop()
             shutil.rmtree(folder, ignore_errors=True)

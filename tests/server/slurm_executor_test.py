@@ -11,7 +11,8 @@ granulabd with --executor slurm, and checks:
 - granulabd stopped and started again while jobs run on the cluster (one of them ending meanwhile) neither
   loses nor repeats them;
 - a Slurm job that fails (a broken worker, exit 3) fails its job with Slurm's state and exit code; the daemon
-  here authenticates with a token in SLURM_JWT instead of the key.
+  here authenticates with a token in SLURM_JWT instead of the key;
+- with --tls-cert, the workers reach the daemon over HTTPS, trusting its self-signed certificate.
 Everything it started is stopped by PID. Standard library only.
 """
 import csv
@@ -244,9 +245,11 @@ class SlurmExecutorTest(unittest.TestCase):
             shutil.rmtree(cls.dir, ignore_errors=True)
 
     @classmethod
-    def start_daemon(cls, time_limit=1, extra=(), jwt=None):
+    def start_daemon(cls, time_limit=1, extra=(), jwt=None, client=None):
         """granulabd on the cluster; `time_limit`: --slurm-time-limit (min), the Slurm jobs' limit here.
-        `jwt`: a token in SLURM_JWT instead of the key file."""
+        `jwt`: a token in SLURM_JWT instead of the key file; `client`: the one that asks for its health (an
+        https one for a daemon with --tls-cert)."""
+        client = client or cls.client
         log = open(os.path.join(cls.dir, "granulabd.log"), "a")
         env = dict(os.environ, SLURM_CONF=cls.cluster.conf)
         auth = ["--slurm-jwt-key", cls.cluster.jwt_key]
@@ -264,7 +267,7 @@ class SlurmExecutorTest(unittest.TestCase):
             if cls.daemon.poll() is not None:
                 raise RuntimeError("granulabd exited: " + cls.daemon_log())
             try:
-                if cls.client.health().get("executor") == "slurm":
+                if client.health().get("executor") == "slurm":
                     return
             except Exception:
                 time.sleep(0.1)
@@ -391,6 +394,30 @@ class SlurmExecutorTest(unittest.TestCase):
         self.assertIn("FAILED", job["error"])
         self.assertIn("exit code 3", job["error"])
         self.assertTrue(job["slurm_state"].startswith("FAILED"), job)
+
+    def test_6_workers_reach_a_daemon_over_https(self):
+        # A self-signed certificate made here: the daemon serves HTTPS only, its Slurm jobs are told to trust
+        # the certificate (GRANULAB_CA_FILE, by default the --tls-cert file) and their curves are the local ones.
+        if not shutil.which("openssl"):
+            self.skipTest("no openssl command to make a certificate")
+        cert, key = os.path.join(self.dir, "cert.pem"), os.path.join(self.dir, "key.pem")
+        subprocess.run(["openssl", "req", "-x509", "-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1",
+                        "-nodes", "-keyout", key, "-out", cert, "-days", "2", "-subj", "/CN=127.0.0.1",
+                        "-addext", "subjectAltName=IP:127.0.0.1"], check=True, capture_output=True)
+        https = Client(f"https://127.0.0.1:{self.port}", ca_file=cert)
+        self.stop_daemon()
+        self.start_daemon(time_limit=6, extra=("--tls-cert", cert, "--tls-key", key), client=https)
+        try:
+            job_id = https.submit(short_spec(2e-5))
+            deadline = time.time() + 120
+            while time.time() < deadline and https.status(job_id)["status"] not in ("succeeded", "failed", "cancelled"):
+                time.sleep(0.3)
+            job = https.status(job_id)
+            self.assertEqual(job["status"], "succeeded", f"{job}\n{self.daemon_log()}")
+            self.assertEqual(https.curve_csv(job_id), self.local_curve(short_spec(2e-5), "local_https"))
+        finally:
+            self.stop_daemon()
+            self.start_daemon()
 
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))

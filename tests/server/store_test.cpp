@@ -676,6 +676,100 @@ TEST_F(StoreFileTest, DeletingAJobCascadesToItsResults) {
   EXPECT_EQ(query("SELECT count(*) FROM events"), "1");  // only the daemon-wide one
 }
 
+// Checkpoints in chunks (JobStore::Checkpoint): the stored one stays the job's while a new one is written,
+// the switch is one transaction with its rows, the replaced and the unfinished chunks are garbage that goes a
+// chunk at a time, and only a write under way takes chunks.
+TEST_F(StoreFileTest, CheckpointsAreWrittenInChunksBesideTheStoredOne) {
+  JobStore store(path_);
+  const std::int64_t id = submit_job(store, "x");
+  ASSERT_EQ(store.claim_next()->id, id);
+  store.start_curve(id, "a\n");
+  const auto write = [&](const std::vector<std::string>& chunks, std::int64_t rows) {
+    JobStore::Checkpoint cp{store.begin_checkpoint(id), 0, 0, rows, 0, "v"};
+    for (const std::string& c : chunks) {
+      EXPECT_TRUE(store.put_checkpoint_chunk(id, cp.generation, cp.chunks++, c.data(), c.size()));
+      cp.bytes += std::int64_t(c.size());
+    }
+    return cp;
+  };
+  const JobStore::Checkpoint first = write({"abc", "de"}, 1);
+  EXPECT_FALSE(store.checkpoint(id));  // not the job's before its commit
+  store.append_results(id, 0, {{"1\n", "[1]"}}, {}, &first);
+  store.end_checkpoint_write(id, first.generation);
+  ASSERT_TRUE(store.checkpoint(id));
+  EXPECT_EQ(store.checkpoint(id)->bytes, 5);
+  EXPECT_EQ(store.checkpoint_chunk(id, first.generation, 1).value_or(""), "de");
+  EXPECT_EQ(store.drop_checkpoint_garbage(100), 0u);
+
+  // The next one, abandoned halfway (a crash, a full disk): the stored one is untouched; its chunks are
+  // garbage once the write is over, and no chunk lands after that.
+  const JobStore::Checkpoint torn = write({"xyz"}, 2);
+  EXPECT_GT(torn.generation, first.generation);
+  EXPECT_EQ(store.drop_checkpoint_garbage(100), 0u);  // under way: not garbage yet
+  store.end_checkpoint_write(id, torn.generation);
+  EXPECT_FALSE(store.put_checkpoint_chunk(id, torn.generation, 1, "q", 1));
+  EXPECT_FALSE(store.put_checkpoint_chunk(id, first.generation, 0, "q", 1));  // never the stored one's
+  EXPECT_EQ(store.checkpoint(id)->generation, first.generation);
+  EXPECT_EQ(store.drop_checkpoint_garbage(100), 1u);
+
+  // A third, committed: the first's two chunks become garbage; a fourth begun abandons nothing stored.
+  const JobStore::Checkpoint third = write({"0123456789"}, 3);
+  store.append_results(id, 1, {{"2\n", "[2]"}}, {}, &third);
+  store.end_checkpoint_write(id, third.generation);
+  EXPECT_EQ(store.checkpoint(id)->rows, 3);
+  EXPECT_FALSE(store.checkpoint_chunk(id, first.generation, 0));
+  EXPECT_EQ(store.drop_checkpoint_garbage(1), 1u);  // one at a time when asked
+  EXPECT_EQ(store.drop_checkpoint_garbage(100), 1u);
+  EXPECT_EQ(query("SELECT count(*) FROM checkpoint_chunks"), "1");
+
+  // A finished job keeps no checkpoint: its chunks are garbage, and so are a deleted job's.
+  store.succeed(id, "{}", "csv", "json");
+  EXPECT_FALSE(store.checkpoint(id));
+  EXPECT_EQ(store.drop_checkpoint_garbage(100), 1u);
+  EXPECT_EQ(query("SELECT count(*) FROM checkpoint_chunks"), "0");
+}
+
+// Migration 9: a checkpoint stored whole by an older build is one chunk of generation 1, read as before.
+TEST_F(StoreFileTest, AWholeCheckpointOfAnOlderBuildBecomesOneChunk) {
+  std::int64_t id = 0;
+  {
+    JobStore store(path_);
+    id = submit_job(store, "x");
+  }
+  {
+    sqlite::Database db(path_);
+    db.exec("DROP TABLE checkpoint_chunks; DROP TABLE checkpoints; CREATE TABLE checkpoints (job_id INTEGER PRIMARY "
+            "KEY REFERENCES jobs (id) ON DELETE CASCADE, state BLOB NOT NULL, rows INTEGER NOT NULL, snapshots "
+            "INTEGER NOT NULL, engine_version TEXT NOT NULL, at_ms INTEGER NOT NULL); PRAGMA user_version = 8;");
+    sqlite::Statement st(db, "INSERT INTO checkpoints VALUES (?1, ?2, 4, 1, 'v', 0)");
+    st.bind(1, id).bind_blob(2, {0, 1, 2, 255}).run();
+  }
+  JobStore store(path_);
+  const auto cp = store.checkpoint(id);
+  ASSERT_TRUE(cp);
+  EXPECT_EQ(cp->generation, 1);
+  EXPECT_EQ(cp->chunks, 1);
+  EXPECT_EQ(cp->bytes, 4);
+  EXPECT_EQ(cp->rows, 4);
+  EXPECT_EQ(store.checkpoint_chunk(id, 1, 0).value_or(""), std::string("\x00\x01\x02\xff", 4));
+}
+
+// What a failed statement says: SQLite's message, not the SQL (users read it: a 500, a failed job's reason);
+// the statement is kept for the log.
+TEST(SqliteWrapper, ErrorMessagesCarryNoSql) {
+  sqlite::Database db(":memory:");
+  db.exec("CREATE TABLE secret_table (x INTEGER NOT NULL)");
+  sqlite::Statement insert(db, "INSERT INTO secret_table VALUES (?1)");
+  insert.bind_null(1);
+  try {
+    insert.run();
+    FAIL() << "no throw";
+  } catch (const sqlite::Error& e) {
+    EXPECT_EQ(std::string(e.what()).find("INSERT"), std::string::npos) << e.what();
+    EXPECT_NE(e.sql.find("INSERT INTO secret_table"), std::string::npos) << e.sql;
+  }
+}
+
 }  // namespace
 }  // namespace granulab::server
 

@@ -193,9 +193,9 @@ TEST_F(WorkerRoutes, ASecretOpensOnlyItsOwnJobsWorkerRoutes) {
   ASSERT_TRUE(listed);
   EXPECT_EQ(listed->status, 401);
   // Bodies past the users' 64 KiB limit: refused from the head without the job's secret, read with it
-  // (and this one refused for what it is: not a checkpoint).
+  // (and this one refused for what it is: a chunk of no checkpoint being written).
   const std::string big(200 * 1024, 'x');
-  const std::string path = "/v1/worker/jobs/" + std::to_string(a) + "/checkpoint?rows=0&snapshots=0";
+  const std::string path = "/v1/worker/jobs/" + std::to_string(a) + "/checkpoint/1/0";
   auto anonymous =
       raw.Post(path, {{"X-Worker-Token", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"}}, big, "application/octet-stream");
   ASSERT_TRUE(anonymous);
@@ -203,8 +203,8 @@ TEST_F(WorkerRoutes, ASecretOpensOnlyItsOwnJobsWorkerRoutes) {
   auto trusted =
       raw.Post(path, {{"X-Worker-Token", "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"}}, big, "application/octet-stream");
   ASSERT_TRUE(trusted);
-  EXPECT_EQ(trusted->status, 400) << trusted->body;
-  EXPECT_NE(trusted->body.find("unreadable checkpoint"), std::string::npos) << trusted->body;
+  EXPECT_EQ(trusted->status, 409) << trusted->body;
+  EXPECT_NE(trusted->body.find("is being written"), std::string::npos) << trusted->body;
 }
 
 TEST_F(WorkerRoutes, AnInterruptedWorkerIsRequeuedAndTheNextResumesBitForBit) {

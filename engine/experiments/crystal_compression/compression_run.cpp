@@ -110,7 +110,8 @@ void CrystalCompression::take_due_snapshots(Run& run) {
 
 void CrystalCompression::safe_point(Run& run) const {
   if (run.sink.checkpoint_due())
-    run.sink.checkpoint(checkpoint(run.at, run.r), run.r.curve.size(), run.r.snapshots.size());
+    run.sink.checkpoint([&](CheckpointWriter& out) { save(out, run.at, run.r); }, run.r.curve.size(),
+                        run.r.snapshots.size());
 }
 
 void CrystalCompression::confine_and_begin(Run& run) {
@@ -241,11 +242,11 @@ void CrystalCompression::run_segment(Run& run) {
   ++at.segment;
 }
 
-CrystalResult CrystalCompression::run(ResultSink& sink, const std::string& resume) {
+CrystalResult CrystalCompression::run(ResultSink& sink, const CheckpointSource* resume) {
   const auto start = std::chrono::steady_clock::now();
   CrystalResult r;
   Position at;
-  if (!resume.empty()) restore(resume, at, r);
+  if (resume) restore(*resume, at, r);
   World& world = sample_.world();
   const auto& walls = world.walls();
   const double gap = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();

@@ -158,14 +158,12 @@ void CrystalCompression::state(Archive& a, Self& self, At& at, Result& r) {
   a.value(self.ref_length_), a.value(self.ref_width_), a.value(self.ref_thickness_);
 }
 
-std::string CrystalCompression::checkpoint(const Position& at, const CrystalResult& r) const {
-  CheckpointWriter out;
+void CrystalCompression::save(CheckpointWriter& out, const Position& at, const CrystalResult& r) const {
   sample_.save(out);
   state(out, *this, at, r);
-  return out.finish();
 }
 
-void CrystalCompression::restore(const std::string& checkpoint, Position& at, CrystalResult& r) {
+void CrystalCompression::restore(const CheckpointSource& checkpoint, Position& at, CrystalResult& r) {
   CheckpointReader in(checkpoint);
   sample_.restore(in);
   state(in, *this, at, r);

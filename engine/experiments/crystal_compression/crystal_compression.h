@@ -101,8 +101,8 @@ class CrystalCompression {
   ConfinementReport confine(const ProgressFn& progress = nullptr) { return granulab::confine(sample_, progress); }
   /// Confines, compresses, records: each curve row and snapshot goes to `sink` as it is made; the sink
   /// may stop the run (throws Cancelled).
-  /// `resume`: a checkpoint this run's sink was given (ResultSink::checkpoint), or empty.
-  CrystalResult run(ResultSink& sink, const std::string& resume = "");
+  /// `resume`: a checkpoint this run's sink was given (ResultSink::checkpoint), or none.
+  CrystalResult run(ResultSink& sink, const CheckpointSource* resume = nullptr);
   CrystalResult run() {
     ResultSink none;
     return run(none);
@@ -131,8 +131,8 @@ class CrystalCompression {
   /// save and restore's one list of what a checkpoint holds beyond the sample (as World::state).
   template <class Archive, class Self, class At, class Result>
   static void state(Archive& a, Self& self, At& at, Result& r);
-  std::string checkpoint(const Position& at, const CrystalResult& r) const;
-  void restore(const std::string& checkpoint, Position& at, CrystalResult& r);
+  void save(CheckpointWriter& out, const Position& at, const CrystalResult& r) const;
+  void restore(const CheckpointSource& checkpoint, Position& at, CrystalResult& r);
   // The run, carved (compression_run.cpp).
   void confine_and_begin(Run& run);
   void begin_segment(Run& run, const LoadSegment& segment);

@@ -242,7 +242,7 @@ Workload CrystalCompressionExperiment::workload() const {
   return w;
 }
 
-std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& sink, const std::string& resume) const {
+std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& sink, const CheckpointSource* resume) const {
   auto out = std::make_unique<CrystalSummary>();
   CrystalCompression experiment(params);
   out->r = experiment.run(sink, resume);

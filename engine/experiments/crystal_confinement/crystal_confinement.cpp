@@ -66,7 +66,7 @@ Workload CrystalConfinementExperiment::workload() const {
   return w;
 }
 
-std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink, const std::string& resume) const {
+std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& sink, const CheckpointSource* resume) const {
   const auto start = std::chrono::steady_clock::now();
   auto out = std::make_unique<ConfinementSummary>();
   CrystalSample sample(params);
@@ -89,20 +89,22 @@ std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& 
     archive.value(state);
     archive.value(rows);
   };
-  if (resume.empty()) {
+  if (!resume) {
     record(0);
   } else {
-    CheckpointReader in(resume);
+    CheckpointReader in(*resume);
     sample.restore(in);
     saved(in);
     in.finish();
   }
   const auto safe_point = [&] {
     if (!sink.checkpoint_due()) return;
-    CheckpointWriter w;
-    sample.save(w);
-    saved(w);
-    sink.checkpoint(w.finish(), rows, 0);
+    sink.checkpoint(
+        [&](CheckpointWriter& w) {
+          sample.save(w);
+          saved(w);
+        },
+        rows, 0);
   };
   out->report = confine(
       sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);

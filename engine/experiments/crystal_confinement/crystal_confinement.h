@@ -32,7 +32,7 @@ class CrystalConfinementExperiment : public Experiment {
   const std::vector<CurveColumn>& curve_columns() const override { return ConfinementRow::columns(); }
   Headline headline() const override;
   Workload workload() const override;
-  std::unique_ptr<ExperimentResult> run(ResultSink& sink, const std::string& resume) const override;
+  std::unique_ptr<ExperimentResult> run(ResultSink& sink, const CheckpointSource* resume) const override;
 };
 
 std::unique_ptr<Experiment> make_crystal_confinement();

@@ -55,7 +55,7 @@ std::vector<double> TwoCubeRow::values() const {
   return {slide_over_size, normal_over_p0, tangential_over_p0, normal_force, tangential_force};
 }
 
-TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
+TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const CheckpointSource* resume) {
   const auto start = std::chrono::steady_clock::now();
   const TwoCubeParams& p = params_;
   const double l = p.grain.size, d = grain_.diameter(), s = grain_.spacing();
@@ -84,12 +84,12 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
     archive.value(done);
     archive.values(r.curve);
   };
-  if (resume.empty()) {
+  if (!resume) {
     place_at(0);
     record(0);
     world_.bodies().velocity[top_] = Vec3(speed, 0, 0);
   } else {
-    CheckpointReader in(resume);
+    CheckpointReader in(*resume);
     world_.restore(in);
     state(in);
     in.finish();
@@ -101,10 +101,12 @@ TwoCubeResult TwoCubeSliding::run(ResultSink& sink, const std::string& resume) {
     if (done % 64 != 0 && done % per_point != 0) continue;
     if (!sink.progress(double(done) / total)) throw Cancelled();
     if (done < total && sink.checkpoint_due()) {
-      CheckpointWriter out;
-      world_.save(out);
-      state(out);
-      sink.checkpoint(out.finish(), r.curve.size(), 0);
+      sink.checkpoint(
+          [&](CheckpointWriter& out) {
+            world_.save(out);
+            state(out);
+          },
+          r.curve.size(), 0);
     }
   }
 

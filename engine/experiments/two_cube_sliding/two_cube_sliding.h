@@ -64,7 +64,7 @@ class TwoCubeSliding {
   /// Slides from u = 0 to max_slide * l, each curve row to `sink` as it is recorded; the sink may stop
   /// the run (throws Cancelled).
   /// `resume`: a checkpoint this run's sink was given (ResultSink::checkpoint), or empty.
-  TwoCubeResult run(ResultSink& sink, const std::string& resume = "");
+  TwoCubeResult run(ResultSink& sink, const CheckpointSource* resume = nullptr);
   TwoCubeResult run() {
     ResultSink none;
     return run(none);

@@ -88,7 +88,7 @@ Workload TwoCubeSlidingExperiment::workload() const {
   return w;
 }
 
-std::unique_ptr<ExperimentResult> TwoCubeSlidingExperiment::run(ResultSink& sink, const std::string& resume) const {
+std::unique_ptr<ExperimentResult> TwoCubeSlidingExperiment::run(ResultSink& sink, const CheckpointSource* resume) const {
   auto out = std::make_unique<TwoCubeSummary>();
   TwoCubeSliding experiment(params);
   out->r = experiment.run(sink, resume);

@@ -23,7 +23,7 @@ TEST(CrystalConfinement, IsTheConfinementOfTheCompressionAndRecordsItsApproach) 
   p.grains_x = 4, p.rows_z = 8, p.layers_y = 4;
   p.confining_pressure = 30e3;
   Rows sink;
-  e.run(sink, "");
+  e.run(sink, nullptr);
 
   CrystalParams compression;
   static_cast<CrystalSampleParams&>(compression) = p;
