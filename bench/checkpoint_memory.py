@@ -27,12 +27,13 @@ ARGS = sys.argv[1:]
 POSITIONAL = [a for i, a in enumerate(ARGS) if not a.startswith("--") and (i == 0 or not ARGS[i - 1].startswith("--"))]
 CLI = POSITIONAL[0] if POSITIONAL else os.path.join(ROOT, "build", "granulab")
 SECONDS = float(ARGS[ARGS.index("--seconds") + 1]) if "--seconds" in ARGS else 90.0
-# (grains_x, rows_z, layers_y): from 1e5 to 5e6 spheres at the reference's N_e = 10, 974 spheres a grain
-# (841,536 spheres / 864 grains).
-SPHERES_PER_GRAIN = 974
-SIZES = {"0.1M": (4, 9, 3), "0.4M": (8, 18, 3), "0.8M": (8, 18, 6), "1.7M": (16, 18, 6), "3.4M": (16, 36, 6),
-         "5.1M": (16, 36, 9)}
-CHOSEN = ARGS[ARGS.index("--sizes") + 1].split(",") if "--sizes" in ARGS else list(SIZES)
+# (grains_x, rows_z, layers_y, edge_spheres): from 1e5 to 5e6 spheres at the reference's N_e = 10 (974 spheres
+# a grain: 841,536 spheres / 864 grains), and the largest crystal the spec allows, 1,000,000 grains of N_e = 3
+# (50 spheres each, 5e7 spheres; give it --seconds 300: it takes minutes to build).
+SPHERES_PER_GRAIN = {10: 974, 3: 50}
+SIZES = {"0.1M": (4, 9, 3, 10), "0.4M": (8, 18, 3, 10), "0.8M": (8, 18, 6, 10), "1.7M": (16, 18, 6, 10),
+         "3.4M": (16, 36, 6, 10), "5.1M": (16, 36, 9, 10), "50M": (50, 400, 50, 3)}
+CHOSEN = ARGS[ARGS.index("--sizes") + 1].split(",") if "--sizes" in ARGS else list(SIZES)[:-1]
 
 
 def status_kib(pid, key):
@@ -75,8 +76,9 @@ def main():
     print("size,spheres,checkpoint_bytes,checkpoint_bytes_per_sphere,peak_without_mb,peak_with_mb,"
           "peak_resumed_mb,added_mb,added_fraction")
     for name in CHOSEN:
-        gx, rz, ly = SIZES[name]
+        gx, rz, ly, ne = SIZES[name]
         spec = dict(base, crystal={"grains_x": gx, "rows_z": rz, "layers_y": ly})
+        spec["grain"] = dict(base["grain"], edge_spheres=ne)
         spec["output"] = {"curve_points": 2, "snapshot_strains": []}
         tmp = tempfile.mkdtemp(prefix="granulab-ckmem-")
         try:
@@ -91,7 +93,7 @@ def main():
             # The last checkpoint read back: a resumed run, stopped soon after its restore.
             resumed, _ = watch(run + ["--out", os.path.join(tmp, "b"), "--checkpoint-dir", cdir,
                                       "--checkpoint-seconds", "0", "--resume"], min(SECONDS, 30))
-            spheres = gx * rz * ly * SPHERES_PER_GRAIN
+            spheres = gx * rz * ly * SPHERES_PER_GRAIN[ne]
             added = max(with_ck, resumed) - without
             print(f"{name},{spheres},{largest},{largest / spheres:.0f},{without / 1e6:.0f},{with_ck / 1e6:.0f},"
                   f"{resumed / 1e6:.0f},{added / 1e6:.0f},{added / without:.3f}", flush=True)
