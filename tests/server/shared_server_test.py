@@ -266,6 +266,57 @@ class PriorityTest(unittest.TestCase):
             shutil.rmtree(folder, ignore_errors=True)
 
 
+class LargeSweepTest(unittest.TestCase):
+    def test_a_large_sweep_is_made_while_health_keeps_answering(self):
+        """1000 points of a 10 KB spec (10 MB of specs, under --max-sweep-mb 16): the sweep is created in
+        batches, so that a health probe on another connection is answered all along (bench/sweep_health.py
+        measures the latencies; here only that nobody waits for the whole sweep)."""
+        import threading
+        folder = tempfile.mkdtemp(prefix="granulab_bigsweep_")
+        daemon = Daemon(folder, "--workers", "1", "--threads", "1")
+        try:
+            knockout = list(range(1800))  # pads the spec to about 10 KB
+            base = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
+                    "crystal": {"grains_x": 20, "rows_z": 20, "layers_y": 10, "knockout": knockout},
+                    "loading": {"max_strain": 1e-3}}
+            body = json.dumps({"spec": base, "vary": {"loading.confining_pressure": [1000 + i for i in range(1000)]}})
+            self.assertGreater(len(body), 9000)
+            latencies, stop = [], threading.Event()
+
+            def probe():
+                connection = http.client.HTTPConnection("127.0.0.1", daemon.port, timeout=30)
+                while not stop.is_set():
+                    start = time.perf_counter()
+                    connection.request("GET", "/v1/health")
+                    connection.getresponse().read()
+                    latencies.append(time.perf_counter() - start)
+                    time.sleep(0.005)
+                connection.close()
+
+            prober = threading.Thread(target=probe)
+            prober.start()
+            time.sleep(0.2)
+            before = len(latencies)
+            connection = http.client.HTTPConnection("127.0.0.1", daemon.port, timeout=120)
+            start = time.perf_counter()
+            connection.request("POST", "/v1/sweeps", body, {"Content-Type": "application/json"})
+            answer = connection.getresponse()
+            text = answer.read()
+            took = time.perf_counter() - start
+            during = latencies[before:]
+            stop.set()
+            prober.join()
+            self.assertEqual(answer.status, 201, text[:300])
+            self.assertEqual(len(json.loads(text)["jobs"]), 1000)
+            # Health answered throughout: about one answer per 5 ms of the sweep's time, none of them
+            # waiting for most of it (a loose bound: CI shares its 2 cores with the other tests).
+            self.assertGreaterEqual(len(during), min(10, int(took / 0.02)), (took, len(during)))
+            self.assertLess(max(during), max(1.0, took / 2), (took, max(during)))
+        finally:
+            daemon.stop()
+            shutil.rmtree(folder, ignore_errors=True)
+
+
 class RequestsTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
