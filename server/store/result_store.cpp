@@ -124,11 +124,12 @@ void JobStore::end_checkpoint_write(std::int64_t id, std::int64_t generation) {
 
 std::optional<std::string> JobStore::checkpoint_chunk(std::int64_t id, std::int64_t generation, std::int64_t index) {
   std::lock_guard<std::mutex> lock(mutex_);
-  // Only the job's stored checkpoint is read: a torn write's or a superseded one's chunks, garbage until
-  // dropped, are never a resume point.
-  Statement st(*db_,
-               "SELECT c.data FROM checkpoint_chunks c JOIN checkpoints k ON k.job_id = c.job_id AND "
-               "k.generation = c.generation WHERE c.job_id = ?1 AND c.generation = ?2 AND c.idx = ?3");
+  // Only the job's stored checkpoint, or the one being written (checked whole before it is committed), is
+  // read: a torn write's or a superseded one's chunks, garbage until dropped, are never a resume point.
+  const bool under_way = checkpoint_writes_.count({id, generation}) > 0;
+  Statement st(*db_, under_way ? "SELECT data FROM checkpoint_chunks WHERE job_id = ?1 AND generation = ?2 AND idx = ?3"
+                               : "SELECT c.data FROM checkpoint_chunks c JOIN checkpoints k ON k.job_id = c.job_id AND "
+                                 "k.generation = c.generation WHERE c.job_id = ?1 AND c.generation = ?2 AND c.idx = ?3");
   st.bind(1, id).bind(2, generation).bind(3, index);
   if (!st.step()) return std::nullopt;
   return st.column_blob_string(0);
