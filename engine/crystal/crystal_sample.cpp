@@ -25,8 +25,9 @@ WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate
 
 CrystalGeometry lattice_geometry(const CrystalSampleParams& p) {
   CrystalGeometry g;
+  g.lattice = p.lattice, g.axis = p.axis, g.lateral = p.lateral;
   g.size = p.grain.size;
-  g.prestrain = hydrostatic_prestrain(p.confining_pressure, p.material.youngs_modulus);
+  g.prestrain = hydrostatic_prestrain(p);
   g.grains_x = p.grains_x, g.rows_z = p.rows_z, g.layers_y = p.layers_y;
   g.knockout_ids = p.knockout_ids;
   g.knockout_regions = p.knockout_regions;
@@ -48,8 +49,9 @@ double expected_confinement_steps(const CrystalSampleParams& p) {
 double crystal_length_estimate(const CrystalSampleParams& p) {
   const GrainTemplate grain(p.grain);
   const CrystalLattice lattice = build_crystal(lattice_geometry(p));
-  double reach = 0;  // how far a grain's spheres reach along z beyond its centre (m)
-  for (const Vec3& o : grain.offsets()) reach = std::max(reach, std::abs((lattice.orientation * o).z()));
+  double reach = 0;  // how far a grain's spheres reach along z beyond its centre (m), in either orientation (HCP)
+  for (const Quat& q : lattice.basis_orientation)
+    for (const Vec3& o : grain.offsets()) reach = std::max(reach, std::abs((q * o).z()));
   double lo = 1e300, hi = -1e300;
   for (const LatticeSite& s : lattice.sites) lo = std::min(lo, s.position.z()), hi = std::max(hi, s.position.z());
   return hi - lo + 2 * (reach + grain.radius());
@@ -75,6 +77,33 @@ double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
   return std::sqrt(2.0) * confining_pressure / youngs_modulus;
 }
 
+double hydrostatic_prestrain(const CrystalSampleParams& p) {
+  const double p0 = p.confining_pressure, e = p.material.youngs_modulus;
+  if (p.lattice == LatticeType::fcc) return hydrostatic_prestrain(p0, e);  // the paper's, bit for bit
+  // Love-Weber: a uniform strain eps0 overlaps face f by eps0 l_f, which carries k_n N_f eps0 l_f along l_f;
+  // the mean stress is sum_f k_n N_f eps0 l_f^2 / (6 V).
+  GrainGeometry g = p.grain;
+  g.shape = grain_shape(p.lattice);
+  const GrainTemplate grain(g);
+  const double k_n = normal_stiffness(grain, e);
+  double sum = 0;
+  for (const Face& f : grain.solid().faces()) {
+    long under = 0;
+    for (const Vec3& o : grain.offsets())
+      if (std::abs(o.dot(f.normal) + grain.radius() - f.distance) <= 1e-6 * grain.spacing()) ++under;
+    sum += k_n * double(under) * 4 * f.distance * f.distance;
+  }
+  return 6 * grain.volume() * p0 / sum;
+}
+
+double CrystalSample::face_neighbour_distance() const {
+  if (params_.lattice == LatticeType::fcc)  // the paper's crystal, as its interfaces were always found
+    return params_.grain.size / std::sqrt(2.0);
+  double h = 0;
+  for (const Face& f : grain_.solid().faces()) h = std::max(h, f.distance);
+  return 2 * h;
+}
+
 double crystal_skin_factor(double overlap) {
   const double neighbour_gap = std::sqrt(1 + (1 - overlap) * (1 - overlap)) - 1;
   return std::min(0.01, 0.9 * neighbour_gap);
@@ -88,16 +117,18 @@ CrystalSample::CrystalSample(const CrystalSampleParams& params)
       world_(grain_, contact_law(grain_, params.material), crystal_settings(params, grain_, imperfections_)),
       membrane_(params.confining_pressure, grain_.diameter() / 2, params.bridge_span * params.grain.size,
                 params.bridge_depth * params.grain.size) {
-  if (params.grain.shape != Shape::rhombic_dodecahedron)
-    throw std::invalid_argument("a crystal needs rhombic_dodecahedron grains");
-  if (!(hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus) < 0.1))
+  if (params.grain.shape != grain_shape(params.lattice))
+    throw std::invalid_argument("a " + to_string(params.lattice) + " crystal needs " +
+                                to_string(grain_shape(params.lattice)) + " grains");
+  if (!(hydrostatic_prestrain(params) < 0.1))
     throw std::invalid_argument("confining pressure too high for the modulus");
   if (lattice_.sites.size() < 2) throw std::invalid_argument("the crystal has fewer than two grains left");
   const double density = params.material.density * params.mass_scaling;
   for (std::size_t k = 0; k < lattice_.sites.size(); ++k) {
     const LatticeSite& s = lattice_.sites[k];
     const GrainImperfection& g = imperfections_[k];
-    const BodyId b = world_.add_grain(s.position, lattice_.orientation * g.rotation, density, Motion::dynamic, g.scale);
+    const BodyId b =
+        world_.add_grain(s.position, lattice_.basis_orientation[s.basis] * g.rotation, density, Motion::dynamic, g.scale);
     ids_.push_back(s.id);
     if (s.column == 0) side_[0].push_back(b);
     if (s.column == params.grains_x - 1) side_[1].push_back(b);
@@ -190,8 +221,7 @@ void CrystalSample::fix_confining_forces(double end_load) {
 }
 
 void CrystalSample::fix_face_forces() {
-  const double cell = (1 - hydrostatic_prestrain(params_.confining_pressure, params_.material.youngs_modulus)) *
-                      params_.grain.size;
+  const double cell = (1 - hydrostatic_prestrain(params_)) * params_.grain.size;
   const std::vector<ExposedArea> exposed = exposed_face_areas(lattice_, grain_.solid(), cell);
   std::vector<Vec3>& force = world_.external_force();
   std::fill(force.begin(), force.end(), Vec3::Zero());

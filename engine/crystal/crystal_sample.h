@@ -1,5 +1,6 @@
 // The crystal sample of the paper's experiment 2 (docs/model.md, "Crystal lattice", "Confinement"),
-// ready for any loading: an FCC crystal of rhombic dodecahedra built pre-strained by eps0 = sqrt2 p0 / E,
+// ready for any loading: a crystal of space-filling grains (the paper's FCC of rhombic dodecahedra by default,
+// or SC, BCC, HCP along any axis) built pre-strained by eps0 (sqrt2 p0 / E for FCC),
 // two platens just touching its end rows, and the vacuum bag on its four lateral faces. A crystal
 // experiment builds one, confines it (confinement.h), then loads it its own way.
 #pragma once
@@ -28,6 +29,9 @@ struct FixedForces {
 };
 
 struct CrystalSampleParams {
+  LatticeType lattice = LatticeType::fcc;  ///< the grain follows: grain.shape = grain_shape(lattice)
+  Indices axis{-1, -1, 2};                 ///< compression axis (lab z), a lattice direction (lattice_type.h)
+  Indices lateral{0, 0, 0};                ///< lab x; all zero: default_lateral()
   GrainGeometry grain{Shape::rhombic_dodecahedron, 0.01, 10, 0.75};
   Material material{};                          // E = 3 GPa, rho = 1200, f = 0.35
   int grains_x = 8, rows_z = 18, layers_y = 6;  ///< grains per row, rows, {111} layers (-)
@@ -52,6 +56,11 @@ struct CrystalSampleParams {
 /// eps0 = sqrt2 p0 / E (-): the hydrostatic pre-strain at which the face overlaps of the FCC packing
 /// carry p0 (the Love-Weber stress of the packing is E eps0 / sqrt2).
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
+/// The same for the sample's lattice (-): eps0 = 6 V p0 / (k_n sum_f N_f l_f^2) over the grain's faces f (N_f
+/// spheres under it, l_f = 2 h_f to the neighbour across it), the pre-strain whose face overlaps carry a mean
+/// stress p0: sqrt2 p0 / E for FCC (the function above, bit for bit), p0 / E for SC; HCP's trapezoids hold
+/// other sphere counts than its rhombi, so it is not exactly FCC's.
+double hydrostatic_prestrain(const CrystalSampleParams& p);
 
 /// The sample's size, the confinement's step cap (knock-outs and an early equilibrium only lower them) and
 /// its expected steps.
@@ -91,6 +100,9 @@ class CrystalSample {
   const MembraneStats& membrane_stats() const { return membrane_.stats(); }
   std::size_t top_wall() const { return top_; }
   std::size_t bottom_wall() const { return bottom_; }
+  /// The distance between neighbouring grains' centres across their farthest faces, as built (m): what finds
+  /// a grain's face neighbours (a cut-off a little beyond it).
+  double face_neighbour_distance() const;
   /// Bodies on the -x, +x, -y, +y sides of the lattice (k = 0..3).
   const std::vector<BodyId>& side(int k) const { return side_[k]; }
   /// Lattice cross-section normal to z (m^2): what wall forces are divided by.

@@ -15,8 +15,8 @@ struct ExposedArea {
   Vec3 end = Vec3::Zero();      ///< beyond it along z (a corner neighbour beyond both counts here)
 };
 
-/// Per site of `lattice` (its order): the faces of `solid` (in the lattice's orientation) whose FCC neighbour,
-/// a nearest-neighbour spacing cell / sqrt2 away across the face, lies outside the lattice box. A neighbour
+/// Per site of `lattice` (its order): the faces of `solid` (in its site's orientation) whose neighbour, twice the
+/// face's distance (pre-strained) away across the face, lies outside the lattice box. A neighbour
 /// missing inside the box (a knock-out) exposes nothing: the bag spans holes. `cell` is the pre-strained
 /// cubic cell (1 - eps0) a the lattice was built with (m). O(sites x faces).
 std::vector<ExposedArea> exposed_face_areas(const CrystalLattice& lattice, const Polyhedron& solid, double cell);

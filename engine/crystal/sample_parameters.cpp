@@ -1,21 +1,64 @@
 #include "engine/crystal/sample_parameters.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "engine/model/model_parameters.h"
 
 namespace granulab {
 
+namespace {
+
+bool integral(double x) { return std::abs(x - std::round(x)) < 1e-9; }
+
+// A lattice direction from the spec: three integers, or for HCP also the four-index [U, V, T, W] with
+// U + V + T = 0 (u = U - T, v = V - T, w = W). Leaves `out` alone when the list is not one.
+void read_direction(ParameterVisitor& v, const char* field, const std::vector<double>& in, LatticeType lattice,
+                    Indices& out) {
+  const bool four = lattice == LatticeType::hcp && in.size() == 4;
+  const bool sized = in.size() == 3 || four;
+  v.require(sized, field,
+            std::string("'") + field + "' must hold three integers [u, v, w]" +
+                (lattice == LatticeType::hcp ? " or four [U, V, T, W]" : ""));
+  if (!sized) return;
+  const bool whole = std::all_of(in.begin(), in.end(), integral);
+  v.require(whole, field, std::string("'") + field + "' must hold integers (lattice indices)");
+  if (!whole) return;
+  if (four) {
+    const long u = std::lround(in[0]), w = std::lround(in[1]), t = std::lround(in[2]);
+    v.require(u + w + t == 0, field, std::string("'") + field + "' in four indices [U, V, T, W] needs U + V + T = 0");
+    out = Indices{int(u - t), int(w - t), int(std::lround(in[3]))};
+  } else {
+    out = Indices{int(std::lround(in[0])), int(std::lround(in[1])), int(std::lround(in[2]))};
+  }
+}
+
+std::vector<double> as_numbers(const Indices& n) { return {double(n[0]), double(n[1]), double(n[2])}; }
+
+}  // namespace
+
 void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
-  visit_grain(v, p.grain);
+  v.section("crystal");
+  std::string lattice = to_string(p.lattice);
+  v.choice("lattice", lattice, {"fcc", "sc", "bcc", "hcp"},
+           "the crystal, each grain the Voronoi cell of its site: fcc (rhombic dodecahedra, the paper's), sc (cubes), "
+           "bcc (truncated octahedra), hcp (ideal c/a, trapezo-rhombic dodecahedra); the grain shape follows");
+  lattice_from_string(lattice, p.lattice);
+  p.grain.shape = grain_shape(p.lattice);
+  visit_grain(v, p.grain,
+              {Shape::rhombic_dodecahedron, Shape::cube, Shape::truncated_octahedron, Shape::trapezo_rhombic_dodecahedron},
+              "a " + lattice + " crystal's grains are ");
   visit_material(v, p.material);
   p.skin_factor = crystal_skin_factor(p.grain.overlap);
   visit_integration(v, p.time_step_factor, p.skin_factor);
 
   v.section("crystal");
-  v.integer("grains_x", p.grains_x, 1, 100, "grains per row (x)");
-  v.integer("rows_z", p.rows_z, 1, 400, "rows along the compression axis (z)");
-  v.integer("layers_y", p.layers_y, 1, 100, "{111} layers through the thickness (y)");
+  v.integer("grains_x", p.grains_x, 1, 100, "grains per row (x): the box is grains_x lattice repeats along x");
+  v.integer("rows_z", p.rows_z, 1, 400,
+            "rows along the compression axis (z): the box holds about grains_x x layers_y x rows_z grains");
+  v.integer("layers_y", p.layers_y, 1, 100, "layers through the thickness (y): {111} for the paper's crystal");
   const long last_id = long(p.grains_x) * p.rows_z * p.layers_y - 1;
   v.grain_ids("knockout", p.knockout_ids, std::uint32_t(last_id), "crystal.grains_x x rows_z x layers_y - 1", 100000,
               "grains removed, by id (layer-major, then row, then column)");
@@ -44,17 +87,48 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   im.seed = std::uint64_t(seed);
 
   v.section("loading");
+  p.axis = default_axis(p.lattice);
+  std::vector<double> axis = as_numbers(p.axis);
+  v.numbers("axis", axis, {-12, 12}, 4, "-",
+            "the compression axis (lab z) as a lattice direction [u, v, w]: cubic indices for sc, fcc and bcc; for hcp "
+            "along a1, a2, c, or the four-index [U, V, T, W] (default: [-1, -1, 2] for fcc, the paper's off-axis "
+            "crystal; [0, 0, 1] for the others)");
+  read_direction(v, "loading.axis", axis, p.lattice, p.axis);
+  v.require(p.axis != Indices{0, 0, 0}, "loading.axis", "'loading.axis' must not be [0, 0, 0]");
+  std::vector<double> lateral;
+  if (p.lateral != Indices{0, 0, 0}) lateral = as_numbers(p.lateral);
+  v.numbers("lateral", lateral, {-12, 12}, 4, "-",
+            "the sample's x axis, a lattice direction normal to loading.axis, in the same indices (default, []: the "
+            "shortest lattice translation normal to the axis; [1, -1, 0] for the paper's crystal)");
+  p.lateral = Indices{0, 0, 0};
+  if (!lateral.empty()) read_direction(v, "loading.lateral", lateral, p.lattice, p.lateral);
+  if (p.lateral != Indices{0, 0, 0} && p.axis != Indices{0, 0, 0}) {
+    const Vec3 x = direction_vector(p.lattice, p.lateral, 1).normalized(), z = direction_vector(p.lattice, p.axis, 1).normalized();
+    v.require(std::abs(x.dot(z)) < 1e-9, "loading.lateral",
+              "'loading.lateral' must be normal to 'loading.axis' (the cosine between them is " + std::to_string(x.dot(z)) +
+                  ")");
+  }
   v.number("confining_pressure", p.confining_pressure, {0, 1e8, true}, "Pa", "p0, the vacuum bag's pressure");
   v.number("mass_scaling", p.mass_scaling, {1, 1e8}, "-", "density factor");
   p.wall_friction = p.material.friction;
   v.number("wall_friction", p.wall_friction, {0, 10}, "-",
            "Coulomb coefficient between spheres and the two platens (default: material.friction)");
 
+  // The clump must fit its grain (the truncated octahedron's squares refuse too few, too large spheres).
+  std::string grain_error;
+  if (p.grain.edge_spheres >= 2 && p.grain.overlap >= 0 && p.grain.overlap < 1 && p.grain.size > 0) {
+    try {
+      const GrainTemplate check(p.grain);
+    } catch (const std::invalid_argument& e) {
+      grain_error = e.what();
+    }
+  }
+  v.require(grain_error.empty(), "grain.edge_spheres", "'grain.edge_spheres': " + grain_error);
   // The pre-strain that carries p0 must stay a small elastic overlap.
-  const double prestrain = hydrostatic_prestrain(p.confining_pressure, p.material.youngs_modulus);
+  const double prestrain = grain_error.empty() ? hydrostatic_prestrain(p) : 0.0;
   v.require(prestrain <= 0.02, "loading.confining_pressure",
-            "'loading.confining_pressure' gives a pre-strain sqrt2 p0 / E = " + std::to_string(prestrain) +
-                " > 0.02: lower it or raise 'material.youngs_modulus'");
+            "'loading.confining_pressure' gives a pre-strain eps0 = " + std::to_string(prestrain) +
+                " > 0.02 (sqrt2 p0 / E for fcc): lower it or raise 'material.youngs_modulus'");
   // Memory: about 60 bytes per sphere; 5e7 spheres is 3 GB.
   const double spheres = double(p.grains_x) * p.rows_z * p.layers_y * double(sphere_count(p.grain));
   v.require(spheres <= 5e7, "crystal",

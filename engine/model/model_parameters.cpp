@@ -2,13 +2,22 @@
 
 namespace granulab {
 
-void visit_grain(ParameterVisitor& v, GrainGeometry& g) {
+void visit_grain(ParameterVisitor& v, GrainGeometry& g, const std::vector<Shape>& shapes, const std::string& why) {
   v.section("grain");
-  // Each experiment has one grain shape: cubes slide in section 3, dodecahedra tile the crystal.
+  // Each experiment has one grain shape: cubes slide in section 3; a crystal's tile its lattice (crystal.lattice).
   std::string shape = to_string(g.shape);
-  v.choice("shape", shape, {to_string(g.shape)}, "grain shape (one per experiment)");
-  v.number("size", g.size, {0, 1, true}, "m", "cube side l, or RD cubic cell a");
-  v.integer("edge_spheres", g.edge_spheres, 2, 40, "N_e, spheres along every edge");
+  std::vector<std::string> names;
+  for (Shape s : shapes) names.push_back(to_string(s));
+  if (names.empty()) names.push_back(shape);
+  v.choice("shape", shape, names, "grain shape (one per experiment; a crystal's follows crystal.lattice)");
+  v.require(shape == to_string(g.shape), "grain.shape",
+            "'grain.shape' is " + shape + ", but " + (why.empty() ? "this experiment's grains are " : why) +
+                to_string(g.shape) + " (leave it out to get them)");
+  v.number("size", g.size, {0, 1, true}, "m",
+           "cube side l, or the crystal's cubic cell a (hcp: the fcc cell of the same nearest-neighbour distance, D = a / sqrt2)");
+  v.integer("edge_spheres", g.edge_spheres, 2, 40,
+            "N_e, spheres along every edge (truncated octahedron: its hexagon-hexagon edges; trapezo-rhombic "
+            "dodecahedron: its rhombi's edges), spacing s on every other edge and face");
   v.number("overlap", g.overlap, {0, 0.95}, "-", "kappa; sphere spacing s = d(1 - kappa)");
 }
 

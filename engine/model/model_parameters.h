@@ -3,14 +3,19 @@
 // engine/framework/parameters.h for how fields are visited).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "engine/framework/parameters.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/model/model.h"
 
 namespace granulab {
 
-/// The "grain" section; `g.shape` is the experiment's only shape (a spec may name it, not change it).
-void visit_grain(ParameterVisitor& v, GrainGeometry& g);
+/// The "grain" section. `g.shape` is the experiment's shape: a spec may name it, not change it; `shapes` lists
+/// what the field can be named (default: g.shape alone), a name other than g.shape is refused naming it.
+void visit_grain(ParameterVisitor& v, GrainGeometry& g, const std::vector<Shape>& shapes = {},
+                 const std::string& why = "");
 /// The "material" section.
 void visit_material(ParameterVisitor& v, Material& m);
 /// The engine knobs of the "run" section: dt / t0 and the neighbour skin / d.

@@ -160,6 +160,10 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["loading"]["confinement"] = "membrane";  // extensions: the bag, and no loading program
   expected["loading"]["program"] = json::array();
   expected["imperfections"] = {{"size_dispersion", 0.0}, {"misorientation", 0.0}, {"seed", 1}};  // perfect grains
+  // Extensions: the lattice and the loading axis, by default the paper's FCC off-axis crystal.
+  expected["crystal"]["lattice"] = "fcc";
+  expected["loading"]["axis"] = json::array({-1.0, -1.0, 2.0});
+  expected["loading"]["lateral"] = json::array();
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
   json got = spec.normalized;
   // Engine knobs that are not in the contract example.
@@ -172,6 +176,20 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
 // 2. The normalised spec
 
 // The default rate follows the spec's own p0 and E, and a given rate is kept as given.
+// The lattice picks the grain and the default axis; HCP takes the four-index form (U, V, T, W) -> (U - T, V - T, W).
+TEST(SpecDefaults, LatticeAndAxisFollowEachOther) {
+  const Spec sc = parse_spec_text(R"({"experiment": "crystal_compression", "crystal": {"lattice": "sc"}})");
+  EXPECT_EQ(sc.normalized.at("grain").at("shape"), "cube");
+  EXPECT_EQ(sc.normalized.at("loading").at("axis"), json({0.0, 0.0, 1.0}));
+  const Spec hcp = parse_spec_text(
+      R"({"experiment": "crystal_compression", "crystal": {"lattice": "hcp"}, "loading": {"axis": [2, -1, -1, 0]}})");
+  EXPECT_EQ(hcp.normalized.at("grain").at("shape"), "trapezo_rhombic_dodecahedron");
+  EXPECT_EQ(hcp.normalized.at("loading").at("axis"), json({2, -1, -1, 0}));  // as given
+  const Spec bcc = parse_spec_text(
+      R"({"experiment": "crystal_confinement", "crystal": {"lattice": "bcc"}, "loading": {"axis": [1, 1, 1], "lateral": [1, -1, 0]}})");
+  EXPECT_EQ(bcc.normalized.at("grain").at("shape"), "truncated_octahedron");
+}
+
 TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
   const auto rate = [](const char* text) {
     return parse_spec_text(text).normalized["loading"]["rate_number"].get<double>();
@@ -341,6 +359,30 @@ const std::vector<ErrorCase> kErrorCases = {
     {"UnknownShapeInCrystal", R"({"experiment": "crystal_compression", "grain": {"shape": "sphere"}})", "invalid_value",
      "grain.shape", "rhombic_dodecahedron"},
     {"UnknownExperiment", R"({"experiment": "triaxial"})", "invalid_value", "experiment", "crystal_compression"},
+    {"UnknownLattice", R"({"experiment": "crystal_compression", "crystal": {"lattice": "diamond"}})", "invalid_value",
+     "crystal.lattice", "hcp"},
+    {"GrainOfAnotherLattice",
+     R"({"experiment": "crystal_compression", "crystal": {"lattice": "sc"}, "grain": {"shape": "rhombic_dodecahedron"}})",
+     "out_of_range", "grain.shape", "cube"},
+
+    // Loading axes.
+    {"AxisOfTwoIndices", R"({"experiment": "crystal_compression", "loading": {"axis": [1, 1]}})", "out_of_range",
+     "loading.axis", "three integers"},
+    {"AxisNotIntegers", R"({"experiment": "crystal_compression", "loading": {"axis": [1, 0.5, 0]}})", "out_of_range",
+     "loading.axis", "integers"},
+    {"AxisZero", R"({"experiment": "crystal_compression", "loading": {"axis": [0, 0, 0]}})", "out_of_range",
+     "loading.axis", "[0, 0, 0]"},
+    {"FourIndicesOutsideHcp", R"({"experiment": "crystal_compression", "loading": {"axis": [2, -1, -1, 0]}})",
+     "out_of_range", "loading.axis", "three integers"},
+    {"FourIndicesNotSummingToZero",
+     R"({"experiment": "crystal_compression", "crystal": {"lattice": "hcp"}, "loading": {"axis": [1, 1, 1, 0]}})",
+     "out_of_range", "loading.axis", "U + V + T = 0"},
+    {"LateralAlongTheAxis",
+     R"({"experiment": "crystal_compression", "crystal": {"lattice": "sc"}, "loading": {"axis": [0, 0, 1], "lateral": [1, 0, 1]}})",
+     "out_of_range", "loading.lateral", "normal"},
+    {"TruncatedOctahedronTooCoarse",
+     R"({"experiment": "crystal_compression", "crystal": {"lattice": "bcc"}, "grain": {"edge_spheres": 2}})",
+     "out_of_range", "grain.edge_spheres", "truncated_octahedron"},
 
     // The document itself.
     {"ArrayDocument", R"([{"experiment": "two_cube_sliding"}])", "wrong_type", ""},

@@ -264,7 +264,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const CheckpointSource* 
   sink.progress(1.0);
   world.walls()[sample_.top_wall()].velocity.setZero();
 
-  r.prestrain = hydrostatic_prestrain(params_.confining_pressure, params_.material.youngs_modulus);
+  r.prestrain = hydrostatic_prestrain(params_);
   r.strain_rate = run.speed / ref_length_;
   r.initial_length = ref_length_;
   r.cross_section = sample_.cross_section();

@@ -99,6 +99,10 @@ GrainSnapshot CrystalCompression::snapshot(double strain) const {
   GrainSnapshot s;
   s.strain = strain;
   s.step = world.steps();
+  s.grain_shape = sample_.grain().geometry().shape;
+  s.grain_size = params_.grain.size;
+  s.layer_spacing = sample_.lattice().period.y();
+  s.layer_planes = layer_planes(sample_.lattice());
   s.id = ids;
   s.position = b.position;
   s.orientation = b.orientation;
@@ -122,7 +126,7 @@ void CrystalCompression::take_reference() {
   const Bodies& b = sample_.world().bodies();
   ref_position_ = b.position;
   ref_orientation_ = b.orientation;
-  interfaces_ = neighbour_pairs(ref_position_, 1.1 * params_.grain.size / std::sqrt(2.0));
+  interfaces_ = neighbour_pairs(ref_position_, 1.1 * sample_.face_neighbour_distance());
   ref_width_ = mean_coordinate(sample_.side(1), ref_position_, 0) - mean_coordinate(sample_.side(0), ref_position_, 0);
   ref_thickness_ =
       mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);

@@ -228,9 +228,13 @@ Headline CrystalCompressionExperiment::headline() const {
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
   if (params.confinement == Confinement::face_forces) w.steps = 0, w.phases.clear();  // no confinement phase
-  // The bound: loading a sample no longer than rows_z grain sizes, a program at its longest (budgets rely
-  // on it); the expected phases: the crystal's own length, each segment as planned.
-  w.steps += loading_steps_bound(params, params.rows_z * params.grain.size);
+  // The bound: loading a sample no longer than rows_z grain sizes (the paper's rows are 0.61 a apart; other
+  // lattices and axes can space them wider, so theirs is at least the crystal's own length), a program at its
+  // longest (budgets rely on it); the expected phases: the crystal's own length, each segment as planned.
+  double bound_length = params.rows_z * params.grain.size;
+  if (!papers_crystal(params.lattice, params.axis, params.lateral))
+    bound_length = std::max(bound_length, crystal_length_estimate(params));
+  w.steps += loading_steps_bound(params, bound_length);
   for (WorkPhase& phase : loading_phases(params, crystal_length_estimate(params), crystal_time_step(params)))
     w.phases.push_back(std::move(phase));
   // One compression: curve_points rows and the start. A program: up to curve_points over its travel (more

@@ -76,12 +76,14 @@ QuasiStaticQuality assess_quasi_static(const CrystalParams& p, const CrystalResu
         "about 0.002): inertia carries part of the load",
         q.kinetic_elastic_mean));
 
-  if (q.slip_plane_span >= 1)
+  // The slip-plane and layer hints speak of the paper's crystal, whose {111} planes they measure.
+  const bool paper = papers_crystal(p.lattice, p.axis, p.lateral);
+  if (paper && q.slip_plane_span >= 1)
     q.hints.push_back(format(
         "every inclined {111} slip plane meets a platen (across the width it rises %.2f times the length, 2 "
         "grains_x / rows_z): the platens constrain the slip, as for the short crystal of Fig. 11 (docs/results.md)",
         q.slip_plane_span));
-  if (p.layers_y < 4)
+  if (paper && p.layers_y < 4)
     q.hints.push_back(format(
         "%.0f {111} layers through the thickness: most grains touch the bag; the reference crystal has 6",
         p.layers_y));

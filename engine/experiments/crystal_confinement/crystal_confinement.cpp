@@ -109,7 +109,7 @@ std::unique_ptr<ExperimentResult> CrystalConfinementExperiment::run(ResultSink& 
   out->report = confine(
       sample, [&](double f) { return sink.progress(f); }, record, &state, safe_point);
   sink.progress(1.0);
-  out->prestrain = hydrostatic_prestrain(params.confining_pressure, params.material.youngs_modulus);
+  out->prestrain = hydrostatic_prestrain(params);
   out->run = sample.world().run_stats(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return out;
 }
