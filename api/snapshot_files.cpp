@@ -47,7 +47,13 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
   interfaces["a"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].a)); });
   interfaces["b"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].b)); });
   interfaces["sliding"] = s.sliding;
-  return {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
+  nlohmann::json out = {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
+  if (s.grain_size > 0)
+    out["crystal"] = {{"grain", to_string(s.grain_shape)},
+                      {"size", s.grain_size},
+                      {"layer_spacing", s.layer_spacing},
+                      {"layer_planes", s.layer_planes}};
+  return out;
 }
 
 namespace {
@@ -75,6 +81,15 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
   GrainSnapshot s;
   s.strain = j.value("strain", 0.0);
   s.step = j.value("step", std::uint64_t(0));
+  // The crystal's description; snapshots stored before lattices were a choice have none (the paper's crystal).
+  if (j.contains("crystal") && j["crystal"].is_object()) {
+    const auto& c = j["crystal"];
+    if (c.contains("grain") && c["grain"].is_string() && !shape_from_string(c["grain"].get<std::string>(), s.grain_shape))
+      throw std::invalid_argument("snapshot: 'crystal.grain' names no grain shape");
+    if (c.contains("size") && c["size"].is_number()) s.grain_size = c["size"].get<double>();
+    if (c.contains("layer_spacing") && c["layer_spacing"].is_number()) s.layer_spacing = c["layer_spacing"].get<double>();
+    if (c.contains("layer_planes") && c["layer_planes"].is_string()) s.layer_planes = c["layer_planes"].get<std::string>();
+  }
   for (double id : numbers(g, "id", n)) s.id.push_back(GrainId(std::uint32_t(id)));
   const auto x = numbers(g, "x", n), y = numbers(g, "y", n), z = numbers(g, "z", n);
   const auto dx = numbers(g, "dx", n), dy = numbers(g, "dy", n), dz = numbers(g, "dz", n);

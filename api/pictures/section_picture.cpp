@@ -9,6 +9,7 @@
 #include "api/pictures/colour_map.h"
 #include "api/snapshot_files.h"
 #include "api/pictures/svg_text.h"
+#include "engine/geometry/polyhedron.h"
 
 namespace granulab::pictures {
 
@@ -42,25 +43,33 @@ double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
 
 // Lattice measures from the reference state (position - displacement).
 struct Layers {
-  double neighbour = 0;    // FCC nearest-neighbour distance a'/sqrt2 (m)
+  double neighbour = 0;    // nearest-neighbour distance (m)
   std::vector<int> layer;  // per grain
   int count = 0;
 };
 
+// The layers are the planes of equal reference y: grains whose y lies within a tenth of the mean layer spacing of
+// the previous one share its layer (HCP's planes are unevenly spaced, so y is not rounded to a period).
 Layers find_layers(const GrainSnapshot& s) {
   Layers out;
   const std::size_t n = s.id.size();
   out.neighbour = api::neighbour_distance(s);
   if (!(out.neighbour > 0)) out.neighbour = 1;
-  // {111} layers are a'/sqrt3 = neighbour sqrt(2/3) apart along y.
-  const double spacing = out.neighbour * std::sqrt(2.0 / 3.0);
-  double lowest = 1e300;
-  for (std::size_t i = 0; i < n; ++i) lowest = std::min(lowest, s.position[i].y() - s.displacement[i].y());
+  // Snapshots stored before lattices were a choice: the paper's {111} layers, a'/sqrt3 = neighbour sqrt(2/3) apart.
+  const double spacing = s.layer_spacing > 0 ? s.layer_spacing : out.neighbour * std::sqrt(2.0 / 3.0);
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  const auto y = [&](std::size_t i) { return s.position[i].y() - s.displacement[i].y(); };
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return y(i) < y(j); });
   out.layer.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    out.layer[i] = int(std::lround((s.position[i].y() - s.displacement[i].y() - lowest) / spacing));
-    out.count = std::max(out.count, out.layer[i] + 1);
+  int layer = -1;
+  double last = -1e300;
+  for (std::size_t i : order) {
+    if (y(i) - last > 0.1 * spacing) ++layer;
+    last = y(i);
+    out.layer[i] = layer;
   }
+  out.count = layer + 1;
   return out;
 }
 
@@ -79,6 +88,22 @@ std::vector<std::array<Vec3, 2>> dodecahedron_edges(double a) {
   return edges;
 }
 
+// Any other grain's edges in its body frame, each once: the solid's face boundaries.
+std::vector<std::array<Vec3, 2>> grain_edges(Shape shape, double size) {
+  std::vector<std::array<Vec3, 2>> edges;
+  const Polyhedron solid = Polyhedron::make(shape, size);
+  const double tol = 1e-9 * size;
+  for (const Face& f : solid.faces())
+    for (std::size_t k = 0; k < f.vertices.size(); ++k) {
+      const Vec3 &p = f.vertices[k], &q = f.vertices[(k + 1) % f.vertices.size()];
+      const bool seen = std::any_of(edges.begin(), edges.end(), [&](const std::array<Vec3, 2>& e) {
+        return ((e[0] - q).norm() < tol && (e[1] - p).norm() < tol) || ((e[0] - p).norm() < tol && (e[1] - q).norm() < tol);
+      });
+      if (!seen) edges.push_back({p, q});
+    }
+  return edges;
+}
+
 // The cross-section of grain i by the plane y = its centre's y, as (x, z) points in order around it.
 std::vector<std::array<double, 2>> cross_section(const std::vector<std::array<Vec3, 2>>& edges, const Vec3& centre,
                                                  const Quat& q) {
@@ -88,7 +113,12 @@ std::vector<std::array<double, 2>> cross_section(const std::vector<std::array<Ve
     const Vec3 p = R * e[0], r = R * e[1];  // relative to the centre; the plane is y = 0 here
     if ((p.y() < 0) == (r.y() < 0) || p.y() == r.y()) continue;
     const Vec3 x = p + (r - p) * (p.y() / (p.y() - r.y()));
-    points.push_back({centre.x() + x.x(), centre.z() + x.z()});
+    const std::array<double, 2> point{centre.x() + x.x(), centre.z() + x.z()};
+    // A vertex on the plane is met by several of its edges: keep it once.
+    if (std::none_of(points.begin(), points.end(), [&](const std::array<double, 2>& o) {
+          return std::abs(o[0] - point[0]) + std::abs(o[1] - point[1]) < 1e-9 * (std::abs(point[0]) + std::abs(point[1]) + 1e-6);
+        }))
+      points.push_back(point);
   }
   if (points.size() < 3) return {};
   double cx = 0, cz = 0;
@@ -114,11 +144,13 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   const Layers layers = find_layers(s);
   const int chosen = layer.value_or(std::max(0, (layers.count - 1) / 2));
   if (chosen < 0 || chosen >= std::max(1, layers.count))
-    throw std::out_of_range("'slice' must be a {111} layer from 0 (the front face) to " +
+    throw std::out_of_range("'slice' must be a " + s.layer_planes + " layer from 0 (the front face) to " +
                             std::to_string(std::max(0, layers.count - 1)) + ", got " + std::to_string(chosen));
   const FieldInfo fi = info(field);
-  const double a = layers.neighbour * std::sqrt(2.0);
-  const auto edges = dodecahedron_edges(a);
+  // The paper's grains keep the cell measured from the neighbour distance, as their pictures always had it.
+  const bool paper = s.grain_shape == Shape::rhombic_dodecahedron;
+  const double a = paper || !(s.grain_size > 0) ? layers.neighbour * std::sqrt(2.0) : s.grain_size;
+  const auto edges = paper ? dodecahedron_edges(a) : grain_edges(s.grain_shape, a);
 
   std::vector<std::size_t> grains;
   for (std::size_t i = 0; i < s.id.size(); ++i)
@@ -154,7 +186,7 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   svg += "<text x=\"" + num(W / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
          xml_escape(fit_text(title, W - 20, 8.5)) + "</text>\n";
   svg += "<text x=\"" + num(W / 2) + "\" y=\"42\" text-anchor=\"middle\" fill=\"#555\">axial strain " +
-         num(100 * s.strain, 3) + " %, {111} layer " + std::to_string(chosen) + " of 0-" +
+         num(100 * s.strain, 3) + " %, " + xml_escape(s.layer_planes) + " layer " + std::to_string(chosen) + " of 0-" +
          std::to_string(std::max(0, layers.count - 1)) + ", " + std::to_string(grains.size()) +
          " grains; compression axis vertical</text>\n";
   svg += "<g class=\"grains\" stroke=\"#222\" stroke-width=\"0.6\">\n";

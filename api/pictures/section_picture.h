@@ -1,6 +1,7 @@
-// A section through a crystal snapshot, like the paper's Figs. 8 and 11: the grains of one {111} layer
-// (the plane of the page is x-z, the compression axis z vertical), each drawn as its rhombic
-// dodecahedron's cross-section through its centre, rotated as the grain is, coloured by a per-grain
+// A section through a crystal snapshot, like the paper's Figs. 8 and 11: the grains of one layer normal to y
+// ({111} for the paper's crystal; the snapshot names its planes), the plane of the page x-z, the compression
+// axis z vertical, each drawn as its grain's cross-section through its centre (the rhombic dodecahedron's, or
+// the snapshot's grain shape), rotated as the grain is, coloured by a per-grain
 // field with a colour bar; interfaces of the layer that slid more than twice the mean sliding are
 // drawn as black lines (Fig. 11b). Sizes come from the snapshot itself (its reference neighbour
 // distance), so no spec is needed.
@@ -18,7 +19,7 @@ enum class Field { severity, gamma_max, equivalent_strain, displacement };
 
 /// "severity", "gamma_max", "equivalent_strain" or "displacement"; nullopt for anything else.
 std::optional<Field> parse_field(const std::string& name);
-/// The {111} layers of the snapshot (at the reference state), 0 = the front face (lowest y).
+/// The layers normal to y of the snapshot ({111} for the paper's crystal) (at the reference state), 0 = the front face (lowest y).
 int layer_count(const GrainSnapshot& s);
 /// The SVG document for `layer` (default: the middle layer, (layers - 1) / 2). Throws
 /// std::out_of_range naming the valid layers when `layer` is not one of them.

@@ -5,15 +5,23 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/core/types.h"
+#include "engine/geometry/polyhedron.h"
 
 namespace granulab {
 
 struct GrainSnapshot {
   double strain = 0;       ///< axial strain when taken (-)
   std::uint64_t step = 0;  ///< time steps since the world was built (-)
+  // The crystal, for pictures: its grain and the layers normal to y (defaults: the paper's crystal, measured
+  // from the snapshot itself, as snapshots stored before lattices were a choice are read).
+  Shape grain_shape = Shape::rhombic_dodecahedron;
+  double grain_size = 0;              ///< the cubic cell a (m); 0: a'/sqrt2 from the neighbour distance
+  double layer_spacing = 0;           ///< mean distance between layers along y (m); 0: {111} layers, a'/sqrt3
+  std::string layer_planes = "{111}"; ///< what the layers are, for captions
   // Per grain, in ascending grain id.
   std::vector<GrainId> id;
   std::vector<Vec3> position;             ///< centre of mass (m)

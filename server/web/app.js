@@ -189,7 +189,7 @@ async function jobView(id) {
   const snapshotDownloads = el("span", { class: "downloads" });
   const snapshots = el("section", { id: "snapshots", hidden: true }, el("h2", {}, "Snapshots"),
     el("div", { class: "controls" }, el("label", {}, "snapshot ", snapshotSelect), el("label", {}, "field ", fieldSelect),
-      el("label", {}, "{111} layer ", sliceInput), snapshotDownloads),
+      el("label", { title: "a layer of the crystal normal to y: {111} for the paper's crystal; the picture's caption names the planes" }, "layer ", sliceInput), snapshotDownloads),
     snapshotPicture);
   const downloads = el("p", { class: "downloads" },
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve?format=csv`, `job${id}_curve.csv`); } }, "curve.csv"),
