@@ -1,0 +1,98 @@
+// Crystals of every lattice, confined and compressed (docs/model.md, "Lattices and loading axes"):
+//  - SC, BCC and HCP crystals confine to p0 on both platens and in the packing, and carry load along [0 0 1];
+//  - symmetry-equivalent axes give the same first yield: FCC [2 -1 -1] (the general builder) against the
+//    paper's [-1 -1 2] (its own), within 3 %;
+//  - the closed form of a simple cubic crystal of cubes: along [1 1 0] its {100} planes lie at 45 degrees to the
+//    axis and are flat through the whole crystal, so a slab slides on one when Coulomb's law holds on it:
+//    sigma_n = (s1 + p0)/2, tau = (s1 - p0)/2, tau = f sigma_n, s1/p0 = (1 + f)/(1 - f); along [1 1 1] the
+//    planes lie at acos(1/sqrt3) = 54.7 degrees (cos^2 = 1/3, sin cos = sqrt2/3), s1/p0 = (sqrt2 + 2f)/(sqrt2 - f).
+//    s1 is the axial stress, p0 included. On crystals of aspect ratio >= 4 the measured first yield is within
+//    10 % of these at f = 0.2 and 0.35 (the bound: the walls' friction and the band's ends add a little).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/experiments/crystal_compression/crystal_compression.h"
+
+namespace granulab {
+namespace {
+
+CrystalParams crystal(LatticeType lattice, Indices axis, int gx, int ly, int rz, double p0 = 30e3) {
+  CrystalParams p;
+  p.lattice = lattice, p.axis = axis;
+  p.grain.shape = grain_shape(lattice);
+  p.grain.edge_spheres = 4;
+  p.grains_x = gx, p.layers_y = ly, p.rows_z = rz;
+  p.confining_pressure = p0;
+  p.max_strain = 2e-3;
+  p.curve_points = 100;
+  p.snapshot_strains = {};
+  return p;
+}
+
+TEST(LatticeCompression, EveryLatticeConfinesToP0AndCarriesLoad) {
+  const double p0 = 30e3;
+  for (LatticeType lattice : {LatticeType::sc, LatticeType::bcc, LatticeType::hcp}) {
+    CrystalCompression experiment(crystal(lattice, default_axis(lattice), 4, 4, 8, p0));
+    const CrystalResult r = experiment.run();
+    const ConfinementReport& c = r.confinement;
+    EXPECT_TRUE(c.converged) << to_string(lattice) << ": " << c.steps << " steps";
+    EXPECT_NEAR(c.stress_top, p0, 0.01 * p0) << to_string(lattice);
+    EXPECT_NEAR(c.stress_bottom, p0, 0.01 * p0) << to_string(lattice);
+    EXPECT_NEAR(c.lateral_stress_x, p0, 0.1 * p0) << to_string(lattice);
+    EXPECT_NEAR(c.lateral_stress_y, p0, 0.1 * p0) << to_string(lattice);
+    // Along these axes no close-packed or cube plane is inclined to the load, so the crystals stiffen rather than
+    // yield early: they carry a deviator well above p0 by 0.2 % strain, with the top and bottom platens agreeing.
+    double peak = 0, gap = 0;
+    for (const CrystalRow& row : r.curve) {
+      peak = std::max(peak, row.deviator);
+      if (row.deviator > p0) gap = std::max(gap, std::abs(row.stress_top - row.stress_bottom) / (row.deviator + p0));
+    }
+    EXPECT_GT(peak, p0) << to_string(lattice);
+    EXPECT_LT(gap, 0.05) << to_string(lattice);
+    std::printf("%s [0 0 1]: confined in %llu steps, deviator up to %.2f p0 by 0.2 %% strain\n",
+                to_string(lattice).c_str(), (unsigned long long)c.steps, peak / p0);
+  }
+}
+
+TEST(LatticeCompression, EquivalentAxesGiveTheSameFirstYield) {
+  const CrystalResult paper = CrystalCompression(crystal(LatticeType::fcc, {-1, -1, 2}, 4, 3, 8)).run();
+  const CrystalResult general = CrystalCompression(crystal(LatticeType::fcc, {2, -1, -1}, 4, 3, 8)).run();
+  const double a = first_yield_peak(paper.curve, 30e3).second, b = first_yield_peak(general.curve, 30e3).second;
+  EXPECT_NEAR(b / a, 1.0, 0.03) << a << " vs " << b;
+}
+
+double axial_first_yield(const CrystalParams& p) {
+  const CrystalResult r = CrystalCompression(p).run();
+  return p.confining_pressure + first_yield_peak(r.curve, p.confining_pressure).second;
+}
+
+// The closed form assumes a uniform lateral stress p0, which the fixed face forces apply (p0 on every exposed
+// face); the bag, modelled as bridging between the outermost spheres, loads the staircase of cube edges that
+// the y faces are along [1 1 0] at its ridges only, and the crystal in it is weaker (measured: first yield
+// 1.66 p0 against 2.08 on a crystal of this size, docs/results.md).
+TEST(LatticeCompression, SimpleCubicSlidesOnItsCubeFacesAtCoulombsStress) {
+  const double p0 = 30e3;
+  for (double f : {0.2, 0.35}) {
+    // [1 1 0]: x = [0 0 1] (period a), y = [1 -1 0] (layers a / sqrt2), z period sqrt2 a: 3a x 7.1a x 28a.
+    CrystalParams along_110 = crystal(LatticeType::sc, {1, 1, 0}, 3, 10, 20, p0);
+    // [1 1 1]: x = [1 0 -1] (period sqrt2 a), y = [-1 2 -1] (layers a / sqrt6), z period sqrt3 a: 5.7a x 5.7a x 24a.
+    CrystalParams along_111 = crystal(LatticeType::sc, {1, 1, 1}, 4, 14, 14, p0);
+    for (CrystalParams* p : {&along_110, &along_111}) {
+      p->material.friction = f, p->wall_friction = f;
+      p->confinement = Confinement::face_forces;
+      p->max_strain = 8e-4;
+    }
+    const double s110 = axial_first_yield(along_110) / p0, s111 = axial_first_yield(along_111) / p0;
+    const double coulomb_110 = (1 + f) / (1 - f), coulomb_111 = (std::sqrt(2.0) + 2 * f) / (std::sqrt(2.0) - f);
+    EXPECT_NEAR(s110 / coulomb_110, 1.0, 0.10) << "f " << f << " [110]: " << s110 << " vs " << coulomb_110;
+    EXPECT_NEAR(s111 / coulomb_111, 1.0, 0.10) << "f " << f << " [111]: " << s111 << " vs " << coulomb_111;
+    std::printf("sc f = %.2f: first yield s1/p0 [110] %.3f (Coulomb %.3f), [111] %.3f (Coulomb %.3f)\n", f, s110,
+                coulomb_110, s111, coulomb_111);
+  }
+}
+
+}  // namespace
+}  // namespace granulab
