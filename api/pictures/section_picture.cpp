@@ -173,8 +173,13 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   const double margin = 20, top = 60, pw = (x1 - x0) * scale, ph = (z1 - z0) * scale;
   // Wide enough for the title (about 8.5 px per character of 15 px bold text), up to 1,200 px; tall enough for
   // the colour bar (a wide, flat layer is short).
+  const std::string caption = "axial strain " + num(100 * s.strain, 3) + " %, " + s.layer_planes + " layer " +
+                              std::to_string(chosen) + " of 0-" + std::to_string(std::max(0, layers.count - 1)) +
+                              ", " + std::to_string(grains.size()) + " grains; compression axis vertical";
+  // Wide enough for the caption too (about 6.5 px per character of 12 px text).
+  const double text_width = std::max(8.5 * double(title.size()), 6.5 * double(caption.size())) + 40;
   const double bar_x = margin + pw + 30,
-               W = std::min(std::max(bar_x + 130, 8.5 * double(title.size()) + 40), std::max(bar_x + 130, 1200.0));
+               W = std::min(std::max(bar_x + 130, text_width), std::max(bar_x + 130, 1200.0));
   const double H = top + std::max(ph, 220.0) + 40;
   const auto X = [&](double x) { return margin + (x - x0) * scale; };
   const auto Z = [&](double z) { return top + (z1 - z) * scale; };  // z (compression axis) up
@@ -185,10 +190,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
                     "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg += "<text x=\"" + num(W / 2) + "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
          xml_escape(fit_text(title, W - 20, 8.5)) + "</text>\n";
-  svg += "<text x=\"" + num(W / 2) + "\" y=\"42\" text-anchor=\"middle\" fill=\"#555\">axial strain " +
-         num(100 * s.strain, 3) + " %, " + xml_escape(s.layer_planes) + " layer " + std::to_string(chosen) + " of 0-" +
-         std::to_string(std::max(0, layers.count - 1)) + ", " + std::to_string(grains.size()) +
-         " grains; compression axis vertical</text>\n";
+  svg += "<text x=\"" + num(W / 2) + "\" y=\"42\" text-anchor=\"middle\" fill=\"#555\">" + xml_escape(caption) +
+         "</text>\n";
   svg += "<g class=\"grains\" stroke=\"#222\" stroke-width=\"0.6\">\n";
   for (std::size_t k = 0; k < grains.size(); ++k) {
     if (shapes[k].empty()) continue;

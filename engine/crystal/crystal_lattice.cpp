@@ -90,19 +90,28 @@ Indices default_lateral(LatticeType lattice, const Indices& axis) {
 
 std::string layer_planes(const CrystalLattice& lattice) {
   const Vec3 y = lattice.orientation.conjugate() * Vec3::UnitY();  // crystal frame
-  if (lattice.type == LatticeType::hcp) return std::abs(std::abs(y.z()) - 1) < 1e-9 ? "(0001)" : "layers normal to y";
   if (lattice.type == LatticeType::fcc && (y - Vec3(1, 1, 1).normalized()).norm() < 1e-9) return "{111}";
-  // Cubic: the plane normal to y has Miller indices along y itself; the smallest integers that fit.
+  // Miller indices: the plane normal to y cuts the axes (cubic: the cube edges; HCP: a1, a2, c) at reciprocals
+  // proportional to t . y; the smallest integers that fit, the first nonzero one positive (a plane and its
+  // opposite are the same planes). HCP in four indices (h k i l), i = -(h + k).
+  const Mat3 axes = lattice.type == LatticeType::hcp ? lattice_cell(LatticeType::hcp, 1).primitive : Mat3::Identity();
+  Vec3 n = axes.transpose() * y;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(n[k]) <= 1e-9) continue;
+    if (n[k] < 0) n = -n;
+    break;
+  }
   double smallest = 1e300;
   for (int k = 0; k < 3; ++k)
-    if (std::abs(y[k]) > 1e-9) smallest = std::min(smallest, std::abs(y[k]));
+    if (std::abs(n[k]) > 1e-9) smallest = std::min(smallest, std::abs(n[k]));
   for (int m = 1; m <= 12; ++m) {
-    const Vec3 h = y * (m / smallest);
-    if (integral(h)) {
-      std::string out = "(";
-      for (int k = 0; k < 3; ++k) out += (k ? " " : "") + std::to_string(long(std::lround(h[k])));
-      return out + ")";
-    }
+    const Vec3 h = n * (m / smallest);
+    if (!integral(h)) continue;
+    const long a = std::lround(h[0]), b = std::lround(h[1]), c = std::lround(h[2]);
+    if (lattice.type == LatticeType::hcp)
+      return "(" + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(-(a + b)) + " " +
+             std::to_string(c) + ")";
+    return "(" + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + ")";
   }
   return "layers normal to y";
 }

@@ -69,8 +69,9 @@ bool papers_crystal(LatticeType lattice, const Indices& axis, const Indices& lat
 /// Builds the lattice; throws std::invalid_argument on a knock-out id outside the box, an axis or lateral
 /// direction that is zero, or a lateral direction not normal to the axis (naming loading.axis / loading.lateral).
 CrystalLattice build_crystal(const CrystalGeometry& g);
-/// What the layers along y are, for captions: "(h k l)" planes for the cubic lattices ("{111}" for the paper's
-/// crystal, as it always said), "(0001)" for HCP's basal planes, else "layers normal to y".
+/// What the layers along y are, for captions: their Miller indices, "(h k l)" for the cubic lattices ("{111}" for the
+/// paper's crystal, as it always said), "(h k i l)" for HCP ("(0 0 0 1)" the basal planes); "layers normal to y"
+/// beyond indices of 12.
 std::string layer_planes(const CrystalLattice& lattice);
 /// The lateral direction used when none is given: the shortest lattice translation normal to the axis (ties: the
 /// largest indices in lexicographic order, first nonzero index positive). Throws std::invalid_argument when there

@@ -138,6 +138,20 @@ TEST(LatticeAxis, BuiltGrainsOverlapOnlyByThePrestrain) {
   }
 }
 
+// The layers a section picture offers, named by their Miller indices (worked by hand: y = z x x in crystal
+// coordinates; HCP's (h, k, l) = (a1 . y, a2 . y, c . y) scaled, i = -(h + k)).
+TEST(LatticeAxis, LayersAreNamedByTheirPlanes) {
+  EXPECT_EQ(layer_planes(build_crystal(geometry(LatticeType::fcc, {-1, -1, 2}, {0, 0, 0}, 2, 2, 2))), "{111}");
+  // sc [1 1 0], x = [0 0 1]: y = [1 1 0] x [0 0 1] / sqrt2 = [1 -1 0] / sqrt2.
+  EXPECT_EQ(layer_planes(build_crystal(geometry(LatticeType::sc, {1, 1, 0}, {0, 0, 0}, 2, 2, 2))), "(1 -1 0)");
+  // bcc [0 0 1], x = [1 0 0]: y = [0 1 0].
+  EXPECT_EQ(layer_planes(build_crystal(geometry(LatticeType::bcc, {0, 0, 1}, {0, 0, 0}, 2, 2, 2))), "(0 1 0)");
+  // hcp along a1 with x along a1 + 2 a2 (lab y of the crystal frame): y = c, the basal planes.
+  EXPECT_EQ(layer_planes(build_crystal(geometry(LatticeType::hcp, {1, 0, 0}, {1, 2, 0}, 2, 2, 2))), "(0 0 0 1)");
+  // hcp along c with x along a1 + a2 (60 degrees): y = (-sqrt3/2, 1/2, 0), a1 . y < 0 < a2 . y: a prism plane.
+  EXPECT_EQ(layer_planes(build_crystal(geometry(LatticeType::hcp, {0, 0, 1}, {0, 0, 0}, 2, 2, 2))), "(1 -1 0 0)");
+}
+
 TEST(LatticeAxis, RefusesDirectionsThatAreNoSample) {
   EXPECT_THROW(build_crystal(geometry(LatticeType::sc, {0, 0, 0}, {0, 0, 0}, 2, 2, 2)), std::invalid_argument);
   try {

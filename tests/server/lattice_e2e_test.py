@@ -1,0 +1,142 @@
+#!/usr/bin/python3
+"""Crystals of every lattice through a real granulabd (issue 26): SC along [1 1 0], BCC along [1 1 1] with its
+lateral direction given, HCP along a1 in the four-index form [2 -1 -1 0] (compressions, with snapshots), and an
+HCP confinement. Each is dry-run first (its estimate names its spheres), runs to `succeeded`, and what a user
+reads of it holds: the normalised spec keeps the lattice and the axis, the grain shape follows the lattice, the
+curve has its rows, the section picture of a snapshot draws the grains of one layer with the layer named by its
+Miller indices, and a spec whose grain is not its lattice's is refused naming grain.shape.
+
+One daemon (--workers 1 --threads 2, a real SQLite file in a temporary folder). About 20 s on 2 cores.
+Standard library only. The daemon binary comes from $GRANULABD (set by CTest) or build/granulabd.
+"""
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import urllib.request
+import xml.etree.ElementTree as ET
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
+from granulab_client import Client, GranulabError  # noqa: E402
+
+DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def compression(lattice, axis, lateral=None, size=(3, 4, 5)):
+    spec = {"experiment": "crystal_compression", "label": "%s along %s" % (lattice, axis),
+            "grain": {"edge_spheres": 4},
+            "crystal": {"lattice": lattice, "grains_x": size[0], "layers_y": size[1], "rows_z": size[2]},
+            "loading": {"axis": axis, "confining_pressure": 30000, "max_strain": 0.002, "rate_number": 4e-5},
+            "output": {"curve_points": 20, "snapshot_strains": [0, 0.002]}}
+    if lateral:
+        spec["loading"]["lateral"] = lateral
+    return spec
+
+
+# name: (spec, grain shape, the caption's layer planes)
+CASES = {
+    # x = [0 0 1] by default, y = [1 -1 0] / sqrt2
+    "sc": (compression("sc", [1, 1, 0]), "cube", "(1 -1 0) layer"),
+    # x = [1 -1 0], y = [1 1 1] x [1 -1 0] / sqrt6 = [1 1 -2] / sqrt6
+    "bcc": (compression("bcc", [1, 1, 1], [1, -1, 0]), "truncated_octahedron", "(1 1 -2) layer"),
+    # [2 -1 -1 0] = 3 a1 -> along a1; x = c by default (shorter than a1 + 2 a2), y = a1 x c: a prism plane
+    "hcp": (compression("hcp", [2, -1, -1, 0]), "trapezo_rhombic_dodecahedron", "(0 1 -1 0) layer"),
+}
+CONFINEMENT = {"experiment": "crystal_confinement", "grain": {"edge_spheres": 4},
+               "crystal": {"lattice": "hcp", "grains_x": 3, "layers_y": 4, "rows_z": 5},
+               "loading": {"confining_pressure": 30000}}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class LatticeEndToEndTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        if not os.path.exists(DAEMON):
+            raise unittest.SkipTest("no granulabd at " + DAEMON)
+        cls.dir = tempfile.mkdtemp(prefix="granulab_lattice_")
+        cls.port = free_port()
+        cls.log = open(os.path.join(cls.dir, "daemon.log"), "w")
+        cls.proc = subprocess.Popen([DAEMON, "--port", str(cls.port), "--db", os.path.join(cls.dir, "g.db"),
+                                     "--workers", "1", "--threads", "2"], stdout=cls.log, stderr=subprocess.STDOUT)
+        cls.client = Client("http://127.0.0.1:%d" % cls.port)
+        for _ in range(200):
+            try:
+                cls.client.health()
+                break
+            except Exception:
+                time.sleep(0.05)
+        cls.estimates = {name: cls.client.dry_run(spec) for name, (spec, _, _) in CASES.items()}
+        cls.jobs = {name: cls.client.submit(spec) for name, (spec, _, _) in CASES.items()}
+        cls.jobs["confinement"] = cls.client.submit(CONFINEMENT)
+        cls.final = {name: cls.client.wait(job, timeout=300) for name, job in cls.jobs.items()}
+
+    @classmethod
+    def tearDownClass(cls):
+        if getattr(cls, "proc", None):
+            cls.proc.terminate()
+            cls.proc.wait(timeout=30)
+            cls.log.close()
+        shutil.rmtree(getattr(cls, "dir", ""), ignore_errors=True)
+
+    def get(self, path):
+        with urllib.request.urlopen("http://127.0.0.1:%d%s" % (self.port, path), timeout=30) as r:
+            return r.read()
+
+    def test_every_lattice_runs_to_its_end(self):
+        for name, job in self.jobs.items():
+            self.assertEqual(self.final[name]["status"], "succeeded", (name, self.final[name]))
+        confinement = self.final["confinement"]["summary"]
+        self.assertTrue(confinement["confinement"]["converged"], confinement["confinement"])
+
+    def test_the_spec_keeps_its_lattice_and_axis_and_the_grain_follows(self):
+        for name, (spec, shape, _) in CASES.items():
+            job, summary = self.final[name], self.final[name]["summary"]
+            self.assertEqual(job["spec"]["crystal"]["lattice"], name)
+            self.assertEqual(job["spec"]["grain"]["shape"], shape)
+            self.assertEqual(job["spec"]["loading"]["axis"], spec["loading"]["axis"])
+            self.assertGreater(summary["grains"], 30)
+            # The dry run counted the spheres the run had.
+            self.assertEqual(self.estimates[name]["spheres"], summary["spheres"], name)
+
+    def test_curves_rise_under_load(self):
+        for name in CASES:
+            curve = self.client.curve(self.jobs[name])
+            deviator = curve["deviator"]
+            self.assertGreaterEqual(len(deviator), 20, name)
+            self.assertGreater(max(deviator), 0.2 * 30000, name)
+
+    def test_sections_draw_the_grains_of_a_layer_and_name_its_planes(self):
+        for name, (_, _, planes) in CASES.items():
+            root = ET.fromstring(self.get("/v1/jobs/%d/snapshots/1.svg?field=displacement" % self.jobs[name]))
+            grains = [p for p in root.iter(SVG + "polygon") if p.get("class") == "grain"]
+            self.assertGreater(len(grains), 2, name)
+            for p in grains:
+                self.assertGreaterEqual(len(p.get("points").split()), 3, (name, p.get("data-id")))
+            captions = " ".join(t.text or "" for t in root.iter(SVG + "text"))
+            self.assertIn(planes, captions, name)
+
+    def test_a_grain_that_is_not_the_lattices_is_refused_naming_the_field(self):
+        spec = json.loads(json.dumps(CASES["sc"][0]))
+        spec["grain"]["shape"] = "rhombic_dodecahedron"
+        with self.assertRaises(GranulabError) as caught:
+            self.client.submit(spec)
+        self.assertEqual(caught.exception.status, 400)
+        self.assertIn("grain.shape", str(caught.exception))
+        self.assertIn("cube", str(caught.exception))
+
+
+if __name__ == "__main__":
+    unittest.main()
