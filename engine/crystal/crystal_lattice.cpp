@@ -84,7 +84,8 @@ Indices default_lateral(LatticeType lattice, const Indices& axis) {
         const double length = repeat_length(cell, lattice, n, 1);
         if (length < shortest * (1 - 1e-9)) shortest = length, best = n;  // descending order: ties keep the largest
       }
-  if (shortest > 1e299) throw std::invalid_argument("loading.axis " + indices_text(axis) + " has no normal lattice direction");
+  if (shortest > 1e299) throw std::invalid_argument("loading.axis " + indices_text(axis) +
+                                " has no normal lattice direction with indices up to 12 (give the lateral direction yourself)");
   return best;
 }
 
@@ -260,6 +261,16 @@ CrystalLattice build_any(const CrystalGeometry& g) {
     const Vec3 f = lab_to_fraction * p;
     f_lo = f_lo.cwiseMin(f), f_hi = f_hi.cwiseMax(f);
   }
+  // The search visits every lattice point of the box's bounding box in lattice coordinates: for a high-index
+  // axis and a long thin box that is far more than the grains (sc [12 11 10] at 1 x 1 x 400: 1e11). Bounded, so
+  // that no spec holds a request or a worker for minutes (about 0.1 s per 1e7 points).
+  double points = double(cell.basis.size());
+  for (int k = 0; k < 3; ++k) points *= std::ceil(f_hi[k]) - std::floor(f_lo[k]) + 3;
+  if (points > kMaxLatticeSearch)
+    throw std::invalid_argument("loading.axis " + indices_text(g.axis) + " with this box needs a search of " +
+                                std::to_string(long(points)) + " lattice points (at most " +
+                                std::to_string(long(kMaxLatticeSearch)) +
+                                "): take a lower-index axis or lateral direction, or a box less long and thin");
   struct Candidate {
     Vec3 position;
     std::uint8_t basis;

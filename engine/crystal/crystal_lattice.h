@@ -66,12 +66,15 @@ Quat off_axis_orientation();
 /// True for the paper's crystal: FCC along [-1 -1 2] (or a multiple), x along [1 -1 0] or by default. It keeps its
 /// own construction and the measures tuned on it (slip-plane hints, step bounds).
 bool papers_crystal(LatticeType lattice, const Indices& axis, const Indices& lateral);
+/// The most lattice points build_crystal searches for the sites of a box along a general axis (-).
+constexpr double kMaxLatticeSearch = 2e7;
 /// Builds the lattice; throws std::invalid_argument on a knock-out id outside the box, an axis or lateral
-/// direction that is zero, or a lateral direction not normal to the axis (naming loading.axis / loading.lateral).
+/// direction that is zero, a lateral direction not normal to the axis, an axis with no normal direction of
+/// indices up to 12, or a box whose search exceeds kMaxLatticeSearch (naming loading.axis / loading.lateral).
 CrystalLattice build_crystal(const CrystalGeometry& g);
 /// What the layers along y are, for captions: their Miller indices, "(h k l)" for the cubic lattices ("{111}" for the
 /// paper's crystal, as it always said), "(h k i l)" for HCP ("(0 0 0 1)" the basal planes); "layers normal to y"
-/// beyond indices of 12.
+/// when none fit up to 12 times the smallest nonzero index.
 std::string layer_planes(const CrystalLattice& lattice);
 /// The lateral direction used when none is given: the shortest lattice translation normal to the axis (ties: the
 /// largest indices in lexicographic order, first nonzero index positive). Throws std::invalid_argument when there

@@ -58,8 +58,8 @@ struct CrystalSampleParams {
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
 /// The same for the sample's lattice (-): eps0 = 6 V p0 / (k_n sum_f N_f l_f^2) over the grain's faces f (N_f
 /// spheres under it, l_f = 2 h_f to the neighbour across it), the pre-strain whose face overlaps carry a mean
-/// stress p0: sqrt2 p0 / E for FCC (the function above, bit for bit), p0 / E for SC; HCP's trapezoids hold
-/// other sphere counts than its rhombi, so it is not exactly FCC's.
+/// stress p0: sqrt2 p0 / E for FCC (the function above, bit for bit), p0 / E for SC, and HCP's the same as FCC's up
+/// to round-off (its trapezoids hold N_e^2 spheres as its rhombi do, all 12 faces at D/2).
 double hydrostatic_prestrain(const CrystalSampleParams& p);
 
 /// The sample's size, the confinement's step cap (knock-outs and an early equilibrium only lower them) and

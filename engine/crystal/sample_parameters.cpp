@@ -119,7 +119,7 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   if (p.grain.edge_spheres >= 2 && p.grain.overlap >= 0 && p.grain.overlap < 1 && p.grain.size > 0) {
     try {
       const GrainTemplate check(p.grain);
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::exception& e) {
       grain_error = e.what();
     }
   }
@@ -134,6 +134,27 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   v.require(spheres <= 5e7, "crystal",
             "'crystal' would hold " + std::to_string(long(spheres)) +
                 " spheres (grains_x x rows_z x layers_y x spheres per grain); the limit is 50,000,000");
+  // A crystal along a general axis must be one that can be cut: an axis with a normal lattice direction, a box
+  // whose site search stays bounded, knock-outs among the sites it holds. Built here once, so that the
+  // spec's error names the field rather than the job failing later.
+  if (grain_error.empty() && spheres <= 5e7 && p.axis != Indices{0, 0, 0} &&
+      !papers_crystal(p.lattice, p.axis, p.lateral)) {
+    CrystalGeometry g;
+    g.lattice = p.lattice, g.axis = p.axis, g.lateral = p.lateral;
+    g.size = p.grain.size, g.prestrain = prestrain;
+    g.grains_x = p.grains_x, g.rows_z = p.rows_z, g.layers_y = p.layers_y;
+    g.knockout_ids = p.knockout_ids;
+    std::string error;
+    try {
+      build_crystal(g);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    const char* field = error.rfind("knock-out", 0) == 0                        ? "crystal.knockout"
+                        : error.find("loading.lateral") != std::string::npos ? "loading.lateral"
+                                                                              : "loading.axis";
+    v.require(error.empty(), field, "'" + std::string(field) + "': " + error);
+  }
 }
 
 }  // namespace granulab

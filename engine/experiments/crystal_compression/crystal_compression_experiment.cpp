@@ -231,11 +231,11 @@ Workload CrystalCompressionExperiment::workload() const {
   // The bound: loading a sample no longer than rows_z grain sizes (the paper's rows are 0.61 a apart; other
   // lattices and axes can space them wider, so theirs is at least the crystal's own length), a program at its
   // longest (budgets rely on it); the expected phases: the crystal's own length, each segment as planned.
+  const double length = crystal_length_estimate(params);  // builds the lattice: once
   double bound_length = params.rows_z * params.grain.size;
-  if (!papers_crystal(params.lattice, params.axis, params.lateral))
-    bound_length = std::max(bound_length, crystal_length_estimate(params));
+  if (!papers_crystal(params.lattice, params.axis, params.lateral)) bound_length = std::max(bound_length, length);
   w.steps += loading_steps_bound(params, bound_length);
-  for (WorkPhase& phase : loading_phases(params, crystal_length_estimate(params), crystal_time_step(params)))
+  for (WorkPhase& phase : loading_phases(params, length, crystal_time_step(params)))
     w.phases.push_back(std::move(phase));
   // One compression: curve_points rows and the start. A program: up to curve_points over its travel (more
   // when it travels further than planned: twice, as a bound), 2 curve_points per segment for the deviator
