@@ -70,9 +70,8 @@ double axial_first_yield(const CrystalParams& p) {
 }
 
 // The closed form assumes a uniform lateral stress p0, which the fixed face forces apply (p0 on every exposed
-// face); the bag, modelled as bridging between the outermost spheres, loads the staircase of cube edges that
-// the y faces are along [1 1 0] at its ridges only, and the crystal in it is weaker (measured: first yield
-// 1.66 p0 against 2.08 on a crystal of this size, docs/results.md).
+// face). In the bag the crystal is weaker (measured: first yield 1.66 p0 against 2.08 on a crystal of this size;
+// not the bag's bridging, docs/results.md).
 TEST(LatticeCompression, SimpleCubicSlidesOnItsCubeFacesAtCoulombsStress) {
   const double p0 = 30e3;
   for (double f : {0.2, 0.35}) {
