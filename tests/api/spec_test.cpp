@@ -15,6 +15,7 @@
 #include "api/spec.h"
 #include "api/summary_json.h"
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
+#include "engine/experiments/crystal_confinement/crystal_confinement.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 #include "api/spec_error.h"
 
@@ -185,9 +186,18 @@ TEST(SpecDefaults, LatticeAndAxisFollowEachOther) {
       R"({"experiment": "crystal_compression", "crystal": {"lattice": "hcp"}, "loading": {"axis": [2, -1, -1, 0]}})");
   EXPECT_EQ(hcp.normalized.at("grain").at("shape"), "trapezo_rhombic_dodecahedron");
   EXPECT_EQ(hcp.normalized.at("loading").at("axis"), json({2, -1, -1, 0}));  // as given
+  // [2 -1 -1 0] -> [3 0 0] (a1); [1 0 -1 0] -> [2 1 0]; [0 1 -1 0] -> [1 2 0]; [1 1 -2 3] -> [3 3 3].
+  EXPECT_EQ(hcp.as<CrystalCompressionExperiment>().params.axis, (Indices{3, 0, 0}));
+  for (const auto& [four, three] : std::vector<std::pair<std::string, Indices>>{
+           {"[1, 0, -1, 0]", {2, 1, 0}}, {"[0, 1, -1, 0]", {1, 2, 0}}, {"[1, 1, -2, 3]", {3, 3, 3}}}) {
+    const Spec s = parse_spec_text(R"({"experiment": "crystal_compression", "crystal": {"lattice": "hcp"}, "loading": {"axis": )" +
+                                   four + "}}");
+    EXPECT_EQ(s.as<CrystalCompressionExperiment>().params.axis, three) << four;
+  }
   const Spec bcc = parse_spec_text(
       R"({"experiment": "crystal_confinement", "crystal": {"lattice": "bcc"}, "loading": {"axis": [1, 1, 1], "lateral": [1, -1, 0]}})");
   EXPECT_EQ(bcc.normalized.at("grain").at("shape"), "truncated_octahedron");
+  EXPECT_EQ(bcc.as<CrystalConfinementExperiment>().params.lateral, (Indices{1, -1, 0}));
 }
 
 TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
