@@ -1,5 +1,7 @@
 #include "api/summary_json.h"
 
+#include <optional>
+
 #include "api/engine_version.h"
 
 namespace granulab::api {
@@ -58,6 +60,17 @@ nlohmann::json summary_json(const Spec& spec, const ExperimentResult& result) {
   s["spec"] = spec.normalized;
   s["units"] = w.units();
   return s;
+}
+
+nlohmann::json yield_estimate_json(const Experiment& experiment) {
+  const std::optional<YieldEstimate> e = experiment.yield_estimate();
+  if (!e) return nullptr;
+  JsonSummaryWriter w;
+  write_yield_estimate(w, *e);
+  nlohmann::json out = w.document()["yield_estimate"], units = nlohmann::json::object();
+  for (const auto& [key, unit] : w.units().items()) units[key.substr(key.find('.') + 1)] = unit;
+  out["units"] = units;
+  return out;
 }
 
 }  // namespace granulab::api

@@ -10,6 +10,9 @@
 namespace granulab::api {
 
 nlohmann::json summary_json(const Spec& spec, const ExperimentResult& result);
+/// The experiment's rigid-grain yield estimate (Experiment::yield_estimate) as the summary's "yield_estimate"
+/// group, with "units"; null when it has none.
+nlohmann::json yield_estimate_json(const Experiment& experiment);
 
 /// The SummaryWriter that builds JSON (exposed for tests).
 class JsonSummaryWriter : public SummaryWriter {

@@ -2,7 +2,7 @@
 """Strength against the loading axis, for every lattice (docs/results.md, "Lattices and loading axes").
 
 usage: /usr/bin/python3 examples/lattice_axes.py [--out DIR] [--threads N] [--max-strain S] [--width W]
-                                                 [--reuse] [--only NAME ...]
+                                                 [--reuse] [--only NAME ...] [--estimates-only]
 
 Runs one crystal_compression per case with `build/granulab run` (N_e = 4, kappa = 0.75, p0 = 30 kPa,
 f = 0.35, the default quasi-static rate), each a box about W x W x 2W (W in cubic cells a, default 4: aspect
@@ -12,6 +12,9 @@ The apparent modulus is the secant of the deviator between 10 % and 40 % of the 
 Grain counts per direction come from the lattice's periods (the same rules as the engine's sample cut,
 docs/model.md "Lattices and loading axes"): x the repeat along the lateral direction, y the spacing of the
 site planes normal to y (HCP's A and B planes halve it), z the grain volume over the two.
+Every case also gets the rigid-grain yield estimate (`granulab estimate --json`, docs/model.md "Yield estimate"):
+a second table sets it against the first yield measured (sigma1 = deviator + p0). --estimates-only prints the
+estimates alone, in about a second, without running anything (and with the measured values of DIR's runs if any).
 Standard library only, apart from the optional plot.
 """
 import argparse
@@ -199,14 +202,19 @@ def main():
     ap.add_argument("--width", type=float, default=4.0, help="box width in cubic cells a")
     ap.add_argument("--reuse", action="store_true")
     ap.add_argument("--only", nargs="*")
+    ap.add_argument("--estimates-only", action="store_true", help="the rigid-grain estimates, no runs")
     ap.add_argument("--granulab", default=os.environ.get("GRANULAB") or os.path.join(ROOT, "build", "granulab"))
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    results = []
+    results, estimates = [], []
     for name, lattice, axis, lateral in CASES:
         if args.only and name not in args.only:
             continue
         target = os.path.join(args.out, name)
+        estimates.append((name, estimate(args.granulab, spec(name, lattice, axis, lateral, args.width, args.max_strain)),
+                          measures(target) if os.path.exists(os.path.join(target, "summary.json")) else None))
+        if args.estimates_only:
+            continue
         if not (args.reuse and os.path.exists(os.path.join(target, "summary.json"))):
             with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as tmp:
                 json.dump(spec(name, lattice, axis, lateral, args.width, args.max_strain), tmp)
@@ -217,6 +225,10 @@ def main():
             subprocess.run(cmd, check=True)
             os.unlink(tmp.name)
         results.append((name, measures(target)))
+    print_estimates(estimates)
+    if args.estimates_only:
+        return 0
+    estimates = [(name, e, dict(results).get(name)) for name, e, _ in estimates]
     with open(os.path.join(args.out, "lattice_axes.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["case", "strain", "deviator_over_p0"])
@@ -234,7 +246,41 @@ def main():
         print("| %s | %s | %d | %.2f | %s | %.2f (%.2f) | %.0f | %.0f |" % (
             name, m["box"], m["grains"], m["aspect"], first, m["peak"], 100 * m["peak_strain"], m["modulus_over_p0"],
             m["seconds"]))
+    print()
+    print_estimates(estimates)
     plot(results, args.out)
+
+
+def estimate(granulab, one):
+    """The spec's rigid-grain yield estimate, from `granulab estimate --json`."""
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as tmp:
+        json.dump(one, tmp)
+    try:
+        out = subprocess.run([granulab, "estimate", tmp.name, "--json"], check=True, capture_output=True, text=True)
+    finally:
+        os.unlink(tmp.name)
+    return json.loads(out.stdout)["yield_estimate"]
+
+
+def print_estimates(rows):
+    print("| case | rigid-grain estimate σ1/p0 | plane, slip direction | dilation | measured first yield σ1/p0 | "
+          "measured / estimate |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for name, e, m in rows:
+        measured, ratio = "-", "-"
+        if m:
+            last = float(m["curve"][-1]["strain"])
+            if m["first_yield_strain"] < 0.98 * last:
+                measured = "%.2f" % (m["first_yield"] + 1)
+                if e["found"]:
+                    ratio = "%.2f" % ((m["first_yield"] + 1) / e["axial_over_p0"])
+            else:
+                measured = "none to %.0f %%" % (100 * last)
+        if e["found"]:
+            print("| %s | %.2f | %s %s | %.1f° | %s | %s |" % (name, e["axial_over_p0"], e["plane"], e["direction"],
+                                                               e["dilation_angle"], measured, ratio))
+        else:
+            print("| %s | locked | - | - | %s | - |" % (name, measured))
 
 
 if __name__ == "__main__":

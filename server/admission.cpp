@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "api/spec.h"
+#include "api/summary_json.h"
 #include "server/http/replies.h"
 #include "server/speed_model.h"
 
@@ -155,6 +156,8 @@ json Admission::cost_estimate(const api::Spec& spec) const {
               {"queued_ahead", store_.count(JobStatus::queued)},
               {"units",
                {{"memory_bytes", "B"}, {"expected_seconds", "s"}, {"sphere_steps_per_second", "1/s"}}}};
+  if (const json estimate = api::yield_estimate_json(*spec.experiment); !estimate.is_null())
+    out["yield_estimate"] = estimate;
   if (const std::string problem = budget_problem(spec); !problem.empty()) out["over_budget"] = problem;
   return out;
 }

@@ -23,6 +23,7 @@
 #include "api/runner.h"
 #include "api/spec.h"
 #include "api/spec_docs.h"
+#include "clients/cli/estimate.h"
 #include "clients/cli/files_sink.h"
 #include "clients/cli/remote.h"
 #include "clients/cli/worker.h"
@@ -42,6 +43,7 @@ const char* kUsage =
     "                (server: --server URL or GRANULAB_SERVER; token: GRANULAB_TOKEN; an https server's own\n"
     "                certificate: --ca-file FILE or GRANULAB_CA_FILE; status, cancel, delete,\n"
     "                priority and list print lines for people, --json the server's answer for scripts)\n"
+    "       granulab estimate SPEC.json [--json]   (in-process, instant: size, expected steps, rigid-grain yield)\n"
     "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
     "       granulab version\n"
     "       granulab worker --server URL --job ID [--patience S]   (what granulabd's Slurm jobs run; docs/cluster.md)\n"
@@ -213,6 +215,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "worker") return cli::run_worker(argc, argv);
+    if (command == "estimate") return cli::run_estimate(argc, argv);
     if (command == "submit" || command == "sweep" || command == "status" || command == "wait" || command == "results" ||
         command == "cancel" || command == "list" || command == "delete" || command == "priority")
       return cli::run_remote(argc, argv);

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/int_option.h"
+#include "clients/cli/estimate.h"
 #include "clients/cli/job_watch.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
@@ -172,6 +173,7 @@ std::string human_cost(const json& c) {
                 c.value("sphere_steps_per_second", 0.0), c.value("rate_basis", "").c_str(),
                 c.value("queued_ahead", 0LL));
   std::string out = text;
+  if (c.contains("yield_estimate")) out += human_yield_estimate(c["yield_estimate"]);
   if (c.contains("over_budget")) out += "this server would refuse it: " + c["over_budget"].get<std::string>() + "\n";
   return out;
 }

@@ -14,7 +14,7 @@
 namespace granulab {
 
 struct GrainSnapshot {
-  double strain = 0;       ///< axial strain when taken (-)
+  double strain = 0;       ///< the experiment's strain when taken: axial, or a shear's shear strain (-)
   std::uint64_t step = 0;  ///< time steps since the world was built (-)
   // The crystal, for pictures: its grain and the layers normal to y (defaults: the paper's crystal, measured
   // from the snapshot itself, as snapshots stored before lattices were a choice are read).

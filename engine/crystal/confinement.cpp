@@ -28,6 +28,10 @@ void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r) {
                       std::to_string(r.kinetic_elastic_ratio) + "): what follows started from a sample not at rest");
 }
 
+double confinement_progress_steps(const CrystalSample& sample) {
+  return 20 * 50 * sample.contact_time() / sample.world().settings().time_step;
+}
+
 ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, const ConfinementCheck& on_check,
                           ConfinementState* state, const std::function<void()>& safe_point) {
   ConfinementReport r;
@@ -77,9 +81,9 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     }
     // Every step (milliseconds to a second on a crystal): a cancel or a shutdown is seen at once, and a
     // checkpoint may be taken; the whole state is the world and `s`.
-    const double servo_steps = 20 * servo_time / world.settings().time_step;
     StageTimer recording(world.stage_times().record);
-    if (progress && !progress(1 - std::exp(-double(world.steps() - start) / servo_steps))) throw Cancelled();
+    if (progress && !progress(1 - std::exp(-double(world.steps() - start) / confinement_progress_steps(sample))))
+      throw Cancelled();
     if (safe_point) safe_point();
   }
   for (Wall& w : world.walls()) w.velocity.setZero();

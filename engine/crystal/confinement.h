@@ -40,6 +40,10 @@ struct ConfinementState {
   int good = 0;             ///< consecutive checks meeting the criterion
 };
 
+/// confine() reports its progress as 1 - exp(-steps / this) (-): twenty servo times, since how long it takes is not
+/// known in advance. Who shares a progress bar with it turns the fraction back into steps.
+double confinement_progress_steps(const CrystalSample& sample);
+
 /// Confines the sample. `progress` gets a fraction that approaches 1 on the servo's time scale (the
 /// length of the phase is not known in advance); returning false stops the run (throws Cancelled).
 /// With `state`, continues from it (a restored sample and state resume a checkpointed confinement) and

@@ -32,16 +32,6 @@ double repeat_length(const LatticeCell& cell, LatticeType lattice, const Indices
   return integral(cell.primitive.inverse() * (v / 2)) ? v.norm() / 2 : v.norm();
 }
 
-// The spacing of the Bravais lattice's planes normal to unit `n` (m): 1/|g| for the shortest reciprocal vector g
-// along n, found as the smallest multiple of (t_i . n) over the primitive translations t_i that is integral.
-double plane_spacing(const LatticeCell& cell, const Vec3& n) {
-  const Vec3 c = cell.primitive.transpose() * n;
-  const double top = c.cwiseAbs().maxCoeff();
-  for (int q = 1; q <= 2000; ++q)
-    if (integral(c * (q / top))) return top / q;
-  throw std::invalid_argument("the lattice planes normal to y are too far from a low-index plane");
-}
-
 // The fraction in [0, 1) of x.
 double fraction(double x) { return x - std::floor(x); }
 
@@ -66,6 +56,15 @@ CrystalLattice build_any(const CrystalGeometry& g);
 void knock_out(CrystalLattice& c, const CrystalGeometry& g);
 
 }  // namespace
+
+// The smallest multiple of (t_i . n) over the primitive translations t_i that is integral is 1/|g|.
+double bravais_plane_spacing(const LatticeCell& cell, const Vec3& n) {
+  const Vec3 c = cell.primitive.transpose() * n;
+  const double top = c.cwiseAbs().maxCoeff();
+  for (int q = 1; q <= 2000; ++q)
+    if (integral(c * (q / top))) return top / q;
+  throw std::invalid_argument("the lattice planes normal to the direction asked for are too far from a low-index plane");
+}
 
 Indices default_lateral(LatticeType lattice, const Indices& axis) {
   const LatticeCell cell = lattice_cell(lattice, 1);
@@ -234,7 +233,7 @@ CrystalLattice build_any(const CrystalGeometry& g) {
   for (const Quat& turn : cell.basis_turn) c.basis_orientation.push_back((c.orientation * turn).normalized());
   // Periods: the repeat along x; the spacing of the site planes normal to y (HCP: the B planes halve the
   // Bravais spacing on average); whatever along z makes one grain per cell on average.
-  const double wx = repeat_length(cell, g.lattice, lateral, a), bravais_y = plane_spacing(cell, y);
+  const double wx = repeat_length(cell, g.lattice, lateral, a), bravais_y = bravais_plane_spacing(cell, y);
   std::vector<double> plane_offsets;  // each basis site's plane, in Bravais spacings
   for (const Vec3& b : cell.basis) plane_offsets.push_back(fraction(b.dot(y) / bravais_y + 1e-12));
   std::sort(plane_offsets.begin(), plane_offsets.end());

@@ -66,6 +66,9 @@ Quat off_axis_orientation();
 /// True for the paper's crystal: FCC along [-1 -1 2] (or a multiple), x along [1 -1 0] or by default. It keeps its
 /// own construction and the measures tuned on it (slip-plane hints, step bounds).
 bool papers_crystal(LatticeType lattice, const Indices& axis, const Indices& lateral);
+/// The spacing of the Bravais lattice's planes normal to unit `n` (m): 1/|g| for the shortest reciprocal vector g along
+/// n. Throws std::invalid_argument when n is not within 1e-9 of a plane normal with indices up to about 2000.
+double bravais_plane_spacing(const LatticeCell& cell, const Vec3& n);
 /// The most lattice points build_crystal searches for the sites of a box along a general axis (-).
 constexpr double kMaxLatticeSearch = 2e7;
 /// Builds the lattice; throws std::invalid_argument on a knock-out id outside the box, an axis or lateral

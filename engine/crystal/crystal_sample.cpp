@@ -66,6 +66,12 @@ Workload confinement_workload(const CrystalSampleParams& p) {
   return w;
 }
 
+double quasi_static_rate_number(double confining_pressure, double youngs_modulus) {
+  return std::clamp(confining_pressure / youngs_modulus, 1e-8, 0.1);  // the field's allowed range
+}
+
+CrystalLattice sample_lattice(const CrystalSampleParams& p) { return build_crystal(lattice_geometry(p)); }
+
 double crystal_time_step(const CrystalSampleParams& p) {
   const GrainTemplate grain(p.grain);
   // Imperfect grains: the time step of the smallest grain there may be (an estimate's upper bound of steps).

@@ -1,6 +1,8 @@
 #include "engine/crystal/lattice_type.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace granulab {
 
@@ -80,6 +82,38 @@ std::string close_packed_planes(LatticeType lattice) {
     case LatticeType::hcp: return "(0001)";
   }
   return "{111}";
+}
+
+Vec3 plane_normal(LatticeType lattice, const Indices& plane) {
+  const Vec3 h(plane[0], plane[1], plane[2]);
+  // The reciprocal lattice of the cubic cell is cubic; HCP's planes are of a1, a2, c.
+  if (lattice != LatticeType::hcp) return h.normalized();
+  const Mat3 axes = lattice_cell(LatticeType::hcp, 1).primitive;
+  return (axes.inverse().transpose() * h).normalized();
+}
+
+bool direction_indices(LatticeType lattice, const Vec3& v, int max_index, Indices& out) {
+  const Vec3 c = lattice == LatticeType::hcp ? Vec3(lattice_cell(LatticeType::hcp, 1).primitive.inverse() * v) : v;
+  double smallest = 1e300;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(c[k]) > 1e-9 * c.norm()) smallest = std::min(smallest, std::abs(c[k]));
+  if (smallest > 1e299) return false;
+  for (int scale = 1; scale <= max_index; ++scale) {
+    const Vec3 h = c * (scale / smallest);
+    bool whole = h.cwiseAbs().maxCoeff() <= max_index + 1e-6;
+    for (int k = 0; k < 3 && whole; ++k) whole = std::abs(h[k] - std::round(h[k])) < 1e-6;
+    if (!whole) continue;
+    out = {int(std::lround(h[0])), int(std::lround(h[1])), int(std::lround(h[2]))};
+    return true;
+  }
+  return false;
+}
+
+Indices normal_direction(LatticeType lattice, const Indices& plane) {
+  Indices d;
+  if (!direction_indices(lattice, plane_normal(lattice, plane), 12, d))
+    throw std::invalid_argument("the plane's normal is no lattice direction with indices up to 12");
+  return d;
 }
 
 }  // namespace granulab

@@ -43,4 +43,14 @@ Indices default_axis(LatticeType lattice);
 /// The lattice's close-packed planes, for the section chooser: {111} FCC, {110} BCC, basal (0001) HCP, {100} SC.
 std::string close_packed_planes(LatticeType lattice);
 
+/// The unit normal (crystal frame) of the plane of Miller indices (h k l) (HCP: of a1, a2, c).
+Vec3 plane_normal(LatticeType lattice, const Indices& plane);
+/// The smallest lattice direction indices [u v w] (HCP: of a1, a2, c) along `v` (crystal frame), the largest index at
+/// most `max_index`; false when none fits to 1e-9.
+bool direction_indices(LatticeType lattice, const Vec3& v, int max_index, Indices& out);
+
+/// The plane's normal as a lattice direction (cubic: the plane's own indices, reduced; HCP: [u v w] of a1, a2, c);
+/// throws std::invalid_argument when none has indices up to 12.
+Indices normal_direction(LatticeType lattice, const Indices& plane);
+
 }  // namespace granulab

@@ -37,9 +37,108 @@ void read_direction(ParameterVisitor& v, const char* field, const std::vector<do
 
 std::vector<double> as_numbers(const Indices& n) { return {double(n[0]), double(n[1]), double(n[2])}; }
 
+// loading.axis and loading.lateral: the compression axis (lab z) and the sample's x axis.
+void visit_compression_axes(ParameterVisitor& v, CrystalSampleParams& p) {
+  p.axis = default_axis(p.lattice);
+  std::vector<double> axis = as_numbers(p.axis);
+  v.numbers("axis", axis, {-12, 12}, 4, "-",
+            "the compression axis (lab z) as a lattice direction [u, v, w]: cubic indices for sc, fcc and bcc; for hcp "
+            "along a1, a2, c, or the four-index [U, V, T, W] (default: [-1, -1, 2] for fcc, the paper's off-axis "
+            "crystal; [0, 0, 1] for the others)");
+  read_direction(v, "loading.axis", axis, p.lattice, p.axis);
+  v.require(p.axis != Indices{0, 0, 0}, "loading.axis", "'loading.axis' must not be [0, 0, 0]");
+  std::vector<double> lateral;
+  if (p.lateral != Indices{0, 0, 0}) lateral = as_numbers(p.lateral);
+  v.numbers("lateral", lateral, {-12, 12}, 4, "-",
+            "the sample's x axis, a lattice direction normal to loading.axis, in the same indices (default, []: the "
+            "shortest lattice translation normal to the axis; [1, -1, 0] for the paper's crystal)");
+  p.lateral = Indices{0, 0, 0};
+  if (!lateral.empty()) read_direction(v, "loading.lateral", lateral, p.lattice, p.lateral);
+  if (p.lateral != Indices{0, 0, 0} && p.axis != Indices{0, 0, 0}) {
+    const Vec3 x = direction_vector(p.lattice, p.lateral, 1).normalized(), z = direction_vector(p.lattice, p.axis, 1).normalized();
+    v.require(std::abs(x.dot(z)) < 1e-9, "loading.lateral",
+              "'loading.lateral' must be normal to 'loading.axis' (the cosine between them is " + std::to_string(x.dot(z)) +
+                  ")");
+  }
+}
+
+// A plane's Miller indices from the spec: three (h, k, l), or for HCP also the four (h, k, i, l) with i = -(h + k).
+void read_plane(ParameterVisitor& v, const char* field, const std::vector<double>& in, LatticeType lattice,
+                Indices& out) {
+  const bool four = lattice == LatticeType::hcp && in.size() == 4;
+  const bool sized = in.size() == 3 || four;
+  v.require(sized, field,
+            std::string("'") + field + "' must hold three Miller indices [h, k, l]" +
+                (lattice == LatticeType::hcp ? " or four [h, k, i, l]" : ""));
+  if (!sized) return;
+  const bool whole = std::all_of(in.begin(), in.end(), integral);
+  v.require(whole, field, std::string("'") + field + "' must hold integers (Miller indices)");
+  if (!whole) return;
+  const long h = std::lround(in[0]), k = std::lround(in[1]);
+  if (four)
+    v.require(std::lround(in[2]) == -(h + k), field,
+              std::string("'") + field + "' in four indices [h, k, i, l] needs i = -(h + k)");
+  out = Indices{int(h), int(k), int(std::lround(in[four ? 3 : 2]))};
+}
+
+// A shear slab of about 4 a x 4 a across and four to six layers along the normal, for the default plane and
+// direction of each lattice (docs/spec.md): fcc (1 1 1) [1 -1 0] 6 x 20 x 2 repeats of 0.71 a, 0.20 a and three
+// layers; sc (1 0 0) [0 1 0] 4 x 4 x 5 cubes; bcc (1 1 0) [1 -1 1] 5 x 10 x 3 repeats of 0.87 a, 0.41 a and two
+// layers; hcp (0 0 0 1) [2 -1 -1 0] 6 x 7 x 3 repeats of 0.71 a, 0.61 a and two layers.
+void shear_box_defaults(CrystalSampleParams& p) {
+  switch (p.lattice) {
+    case LatticeType::fcc: p.grains_x = 6, p.layers_y = 20, p.rows_z = 2; break;
+    case LatticeType::sc: p.grains_x = 4, p.layers_y = 4, p.rows_z = 5; break;
+    case LatticeType::bcc: p.grains_x = 5, p.layers_y = 10, p.rows_z = 3; break;
+    case LatticeType::hcp: p.grains_x = 6, p.layers_y = 7, p.rows_z = 3; break;
+  }
+}
+
+// A shear's loading.plane and loading.direction: the plane's normal becomes the sample's axis (lab z), the
+// direction, which must lie in the plane, its x axis.
+void visit_shear_axes(ParameterVisitor& v, CrystalSampleParams& p, Indices& plane) {
+  std::vector<double> given = p.lattice == LatticeType::fcc ? std::vector<double>{1, 1, 1}
+                              : p.lattice == LatticeType::sc ? std::vector<double>{1, 0, 0}
+                              : p.lattice == LatticeType::bcc ? std::vector<double>{1, 1, 0}
+                                                               : std::vector<double>{0, 0, 0, 1};
+  v.numbers("plane", given, {-12, 12}, 4, "-",
+            "the shear plane's Miller indices (h, k, l): cubic for sc, fcc and bcc; for hcp of a1, a2, c, or the four "
+            "(h, k, i, l) (default: (1, 1, 1) fcc, (1, 0, 0) sc, (1, 1, 0) bcc, (0, 0, 0, 1) hcp); its normal is the "
+            "sample's z axis");
+  plane = Indices{0, 0, 0};
+  read_plane(v, "loading.plane", given, p.lattice, plane);
+  v.require(plane != Indices{0, 0, 0}, "loading.plane", "'loading.plane' must not be (0, 0, 0)");
+  if (plane != Indices{0, 0, 0}) {
+    std::string error;
+    try {
+      p.axis = normal_direction(p.lattice, plane);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    v.require(error.empty(), "loading.plane", "'loading.plane': " + error);
+  }
+  std::vector<double> direction = p.lattice == LatticeType::fcc ? std::vector<double>{1, -1, 0}
+                                  : p.lattice == LatticeType::sc ? std::vector<double>{0, 1, 0}
+                                  : p.lattice == LatticeType::bcc ? std::vector<double>{1, -1, 1}
+                                                                   : std::vector<double>{2, -1, -1, 0};
+  v.numbers("direction", direction, {-12, 12}, 4, "-",
+            "the shear direction, a lattice direction [u, v, w] in the plane (the top layer moves along it: the sample's x "
+            "axis): cubic indices, for hcp of a1, a2, c or the four-index [U, V, T, W] (default: [1, -1, 0] fcc, [0, 1, 0] "
+            "sc, [1, -1, 1] bcc, [2, -1, -1, 0] hcp)");
+  p.lateral = Indices{0, 0, 0};
+  read_direction(v, "loading.direction", direction, p.lattice, p.lateral);
+  v.require(p.lateral != Indices{0, 0, 0}, "loading.direction", "'loading.direction' must not be [0, 0, 0]");
+  if (p.lateral != Indices{0, 0, 0} && plane != Indices{0, 0, 0}) {
+    const double cosine = direction_vector(p.lattice, p.lateral, 1).normalized().dot(plane_normal(p.lattice, plane));
+    v.require(std::abs(cosine) < 1e-9, "loading.direction",
+              "'loading.direction' must lie in 'loading.plane' (the cosine between it and the plane's normal is " +
+                  std::to_string(cosine) + ")");
+  }
+}
+
 }  // namespace
 
-void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
+void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p, Indices* shear_plane) {
   v.section("crystal");
   std::string lattice = to_string(p.lattice);
   v.choice("lattice", lattice, {"fcc", "sc", "bcc", "hcp"},
@@ -55,9 +154,12 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   visit_integration(v, p.time_step_factor, p.skin_factor);
 
   v.section("crystal");
+  if (shear_plane) shear_box_defaults(p);
   v.integer("grains_x", p.grains_x, 1, 100, "grains per row (x): the box is grains_x lattice repeats along x");
   v.integer("rows_z", p.rows_z, 1, 400,
-            "rows along the compression axis (z): the box holds about grains_x x layers_y x rows_z grains");
+            shear_plane ? "rows along the shear plane's normal (z), each a lattice repeat: the box holds about grains_x x "
+                          "layers_y x rows_z grains"
+                        : "rows along the compression axis (z): the box holds about grains_x x layers_y x rows_z grains");
   v.integer("layers_y", p.layers_y, 1, 100, "layers through the thickness (y): {111} for the paper's crystal");
   const long last_id = long(p.grains_x) * p.rows_z * p.layers_y - 1;
   v.grain_ids("knockout", p.knockout_ids, std::uint32_t(last_id), "crystal.grains_x x rows_z x layers_y - 1", 100000,
@@ -87,27 +189,8 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
   im.seed = std::uint64_t(seed);
 
   v.section("loading");
-  p.axis = default_axis(p.lattice);
-  std::vector<double> axis = as_numbers(p.axis);
-  v.numbers("axis", axis, {-12, 12}, 4, "-",
-            "the compression axis (lab z) as a lattice direction [u, v, w]: cubic indices for sc, fcc and bcc; for hcp "
-            "along a1, a2, c, or the four-index [U, V, T, W] (default: [-1, -1, 2] for fcc, the paper's off-axis "
-            "crystal; [0, 0, 1] for the others)");
-  read_direction(v, "loading.axis", axis, p.lattice, p.axis);
-  v.require(p.axis != Indices{0, 0, 0}, "loading.axis", "'loading.axis' must not be [0, 0, 0]");
-  std::vector<double> lateral;
-  if (p.lateral != Indices{0, 0, 0}) lateral = as_numbers(p.lateral);
-  v.numbers("lateral", lateral, {-12, 12}, 4, "-",
-            "the sample's x axis, a lattice direction normal to loading.axis, in the same indices (default, []: the "
-            "shortest lattice translation normal to the axis; [1, -1, 0] for the paper's crystal)");
-  p.lateral = Indices{0, 0, 0};
-  if (!lateral.empty()) read_direction(v, "loading.lateral", lateral, p.lattice, p.lateral);
-  if (p.lateral != Indices{0, 0, 0} && p.axis != Indices{0, 0, 0}) {
-    const Vec3 x = direction_vector(p.lattice, p.lateral, 1).normalized(), z = direction_vector(p.lattice, p.axis, 1).normalized();
-    v.require(std::abs(x.dot(z)) < 1e-9, "loading.lateral",
-              "'loading.lateral' must be normal to 'loading.axis' (the cosine between them is " + std::to_string(x.dot(z)) +
-                  ")");
-  }
+  if (shear_plane) visit_shear_axes(v, p, *shear_plane);
+  else visit_compression_axes(v, p);
   v.number("confining_pressure", p.confining_pressure, {0, 1e8, true}, "Pa", "p0, the vacuum bag's pressure");
   v.number("mass_scaling", p.mass_scaling, {1, 1e8}, "-", "density factor");
   p.wall_friction = p.material.friction;
@@ -151,7 +234,9 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p) {
       error = e.what();
     }
     const char* field = error.rfind("knock-out", 0) == 0                        ? "crystal.knockout"
-                        : error.find("loading.lateral") != std::string::npos ? "loading.lateral"
+                        : error.find("loading.lateral") != std::string::npos ? (shear_plane ? "loading.direction"
+                                                                                            : "loading.lateral")
+                        : shear_plane                                         ? "loading.plane"
                                                                               : "loading.axis";
     v.require(error.empty(), field, "'" + std::string(field) + "': " + error);
   }

@@ -8,6 +8,8 @@
 
 namespace granulab {
 
-void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p);
+/// With `shear_plane`, the sample's axes are a shear's: loading.plane (read into it; its normal is the axis) and
+/// loading.direction (the lateral x axis, in the plane), instead of loading.axis and loading.lateral.
+void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p, Indices* shear_plane = nullptr);
 
 }  // namespace granulab

@@ -4,6 +4,7 @@
 
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
+#include "engine/experiments/crystal_shear/crystal_shear_experiment.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 
 namespace granulab {
@@ -20,6 +21,10 @@ const std::vector<ExperimentType>& experiment_types() {
        "the crystal sample of crystal_compression confined by the vacuum bag and the servo-controlled platens "
        "alone, its approach to equilibrium recorded at every check (paper section 4)",
        make_crystal_confinement},
+      {"crystal_shear",
+       "a slab of any crystal sheared on a lattice plane along a direction in it, between rigid layers of its own "
+       "grains, under a constant normal stress, in the bag (beyond the paper: the slip law of one slip system)",
+       make_crystal_shear},
   };
   return types;
 }

@@ -6,9 +6,11 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "engine/analysis/yield_estimate.h"
 #include "engine/framework/headline.h"
 #include "engine/framework/parameters.h"
 #include "engine/framework/result_sink.h"
@@ -37,6 +39,9 @@ class Experiment {
   virtual Headline headline() const = 0;
   /// The run's size and length from the parameters as they are, without building anything (cheap).
   virtual Workload workload() const = 0;
+  /// A rigid-grain estimate of where its curve first yields (yield_estimate.h), from the parameters as they are in
+  /// about a millisecond, for dry runs, `granulab estimate` and the curve picture; none by default.
+  virtual std::optional<YieldEstimate> yield_estimate() const { return std::nullopt; }
   /// Runs with the parameters as they are, from the start or, with `resume`, from a checkpoint the sink
   /// was given by a run of the same parameters (CheckpointError if it is not one). Throws Cancelled
   /// when the sink asks to stop, std::invalid_argument for parameters the physics cannot run,

@@ -79,6 +79,7 @@ class World {
   /// Per-body forces and torques added at every evaluation (e.g. the confining membrane); sized with bodies.
   std::vector<Vec3>& external_force() { return external_force_; }
   std::vector<Vec3>& external_torque() { return external_torque_; }
+  const std::vector<Vec3>& external_force() const { return external_force_; }
   /// Translational plus rotational kinetic energy of the dynamic bodies (J).
   double kinetic_energy() const;
 

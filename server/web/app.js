@@ -428,6 +428,7 @@ async function submitView() {
         one.phases.map((p) => p.name + " " + fmt(p.steps, 2)).join(", ") + "), " + fmt(one.memory_bytes / 1e6, 2) + " MB";
     fill(cost, el("span", { class: seconds > LONG_JOB_SECONDS ? "warning" : "hint" }, "Expected: " + what + " on " +
       one.threads + " thread(s); " + one.queued_ahead + " queued ahead. Speed: " + one.rate_basis + "."),
+      answers.length === 1 && one.yield_estimate ? el("div", { class: "hint", id: "submit-yield" }, one.yield_estimate.text + ".") : null,
       over ? el("div", { class: "error" }, "over budget: " + over.body.over_budget) : null);
   }
   const scheduleEstimate = () => { clearTimeout(pending); pending = setTimeout(() => estimate().catch((e) => fill(cost, el("span", { class: "error" }, e.message))), 400); };

@@ -26,6 +26,11 @@ const std::map<std::string, std::string> kSpecs = {
       "max_strain": 2e-3, "rate_number": 2e-5}, "output": {"curve_points": 12, "snapshot_strains": [0, 1e-3, 2e-3]}})"},
     {"crystal_confinement", R"({"experiment": "crystal_confinement", "grain": {"edge_spheres": 3},
       "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3}})"},
+    // A shear there and back, with a hold between: the layers, the dead load's velocity and the segment under way.
+    {"crystal_shear", R"({"experiment": "crystal_shear", "grain": {"edge_spheres": 3},
+      "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3,
+      "max_shear_strain": 2e-3, "rate_number": 1e-4, "program": [{"to_shear_strain": 1e-3}, {"hold_steps": 200},
+      {"to_shear_strain": -5e-4}]}, "output": {"curve_points": 12, "snapshot_strains": [0, 1e-3]}})"},
 };
 
 struct Died {};
@@ -94,7 +99,7 @@ void expect_resumes_bit_identical(const std::string& text) {
     EXPECT_EQ(resumed.curve_csv_, whole.curve_csv_);
     EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
     EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
-    for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces"})
+    for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces", "peak", "snapshots"})
       if (whole.summary_.contains(key)) EXPECT_EQ(resumed.summary_.at(key), whole.summary_.at(key)) << key;
   }
 }

@@ -16,6 +16,7 @@
 #include "api/summary_json.h"
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
+#include "engine/experiments/crystal_shear/crystal_shear_experiment.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 #include "api/spec_error.h"
 
@@ -198,6 +199,25 @@ TEST(SpecDefaults, LatticeAndAxisFollowEachOther) {
       R"({"experiment": "crystal_confinement", "crystal": {"lattice": "bcc"}, "loading": {"axis": [1, 1, 1], "lateral": [1, -1, 0]}})");
   EXPECT_EQ(bcc.normalized.at("grain").at("shape"), "truncated_octahedron");
   EXPECT_EQ(bcc.as<CrystalConfinementExperiment>().params.lateral, (Indices{1, -1, 0}));
+}
+
+TEST(SpecDefaults, ShearPlaneAndDirectionAreTheSampleAxes) {
+  const Spec fcc = parse_spec_text(R"({"experiment": "crystal_shear"})");
+  EXPECT_EQ(fcc.normalized.at("loading").at("plane"), json({1.0, 1.0, 1.0}));
+  EXPECT_EQ(fcc.normalized.at("loading").at("normal_stress"), fcc.normalized.at("loading").at("confining_pressure"));
+  EXPECT_EQ(fcc.as<CrystalShearExperiment>().params.axis, (Indices{1, 1, 1}));
+  EXPECT_EQ(fcc.as<CrystalShearExperiment>().params.lateral, (Indices{1, -1, 0}));
+  // HCP's prism plane (1 0 -1 0): its normal is [2 1 0] of a1, a2; the basal direction c lies in it.
+  const Spec hcp = parse_spec_text(
+      R"({"experiment": "crystal_shear", "crystal": {"lattice": "hcp"}, "loading": {"plane": [1, 0, -1, 0], "direction": [0, 0, 0, 1]}})");
+  EXPECT_EQ(hcp.as<CrystalShearExperiment>().params.axis, (Indices{2, 1, 0}));
+  EXPECT_EQ(hcp.as<CrystalShearExperiment>().params.plane, (Indices{1, 0, 0}));
+  EXPECT_EQ(hcp.as<CrystalShearExperiment>().params.lateral, (Indices{0, 0, 1}));
+  // The dry run's estimate for the default: FCC (1 1 1) along [1 -1 0], between the two <112> senses.
+  const auto e = fcc.experiment->yield_estimate();
+  ASSERT_TRUE(e && e->found);
+  EXPECT_GT(e->shear_over_normal, 0.884);
+  EXPECT_LT(e->shear_over_normal, 1.405);
 }
 
 TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
@@ -396,6 +416,21 @@ const std::vector<ErrorCase> kErrorCases = {
     {"HcpAxisWithNoShortNormal",
      R"({"experiment": "crystal_compression", "crystal": {"lattice": "hcp"}, "loading": {"axis": [5, 9, 11]}})",
      "out_of_range", "loading.axis", "no normal lattice direction"},
+    // Shear planes and directions.
+    {"ShearDirectionOutOfThePlane",
+     R"({"experiment": "crystal_shear", "loading": {"plane": [1, 1, 1], "direction": [1, 0, 0]}})", "out_of_range",
+     "loading.direction", "lie in"},
+    {"ShearPlaneZero", R"({"experiment": "crystal_shear", "loading": {"plane": [0, 0, 0]}})", "out_of_range",
+     "loading.plane", "(0, 0, 0)"},
+    {"ShearPlaneFourIndicesWrongI",
+     R"({"experiment": "crystal_shear", "crystal": {"lattice": "hcp"}, "loading": {"plane": [1, 0, 0, 0], "direction": [0, 0, 0, 1]}})",
+     "out_of_range", "loading.plane", "i = -(h + k)"},
+    {"ShearSlabTooThin",
+     R"({"experiment": "crystal_shear", "crystal": {"lattice": "sc", "rows_z": 2}})", "out_of_range",
+     "crystal.rows_z", "three or more"},
+    {"ShearProgramBeyondTheLargestStrain",
+     R"({"experiment": "crystal_shear", "loading": {"max_shear_strain": 0.1, "program": [{"to_shear_strain": -0.2}]}})",
+     "out_of_range", "loading.program[0].to_shear_strain", ""},
     {"TruncatedOctahedronTooCoarse",
      R"({"experiment": "crystal_compression", "crystal": {"lattice": "bcc"}, "grain": {"edge_spheres": 2}})",
      "out_of_range", "grain.edge_spheres", "truncated_octahedron"},

@@ -455,7 +455,36 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
 
 // ---------------------------------------------------------------------------------------------
-// 4. version
+// 4. estimate: in-process, instant, nothing written
+
+// Cubes along [1 1 0] slide on a cube plane at Coulomb's (1 + f)/(1 - f) (docs/model.md, "Yield estimate"); a
+// shear spec gets its tau / sigma_n; a bad spec exits 2 naming the field.
+TEST_F(CliTest, EstimatePrintsTheRigidGrainYieldWithoutRunning) {
+  const fs::path spec = spec_file(R"({"experiment": "crystal_compression", "grain": {"edge_spheres": 4},
+    "material": {"friction": 0.2}, "crystal": {"lattice": "sc", "grains_x": 4, "layers_y": 6, "rows_z": 6},
+    "loading": {"axis": [1, 1, 0]}})");
+  const RunResult json_run = run({"estimate", spec.string(), "--json"});
+  ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
+  const nlohmann::json answer = nlohmann::json::parse(json_run.out);
+  EXPECT_EQ(answer.at("experiment"), "crystal_compression");
+  EXPECT_GT(answer.at("spheres").get<double>(), 0);
+  EXPECT_NEAR(answer.at("yield_estimate").at("axial_over_p0").get<double>(), 1.2 / 0.8, 1e-12);
+  const RunResult text = run({"estimate", spec.string()});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("rigid-grain first yield: sigma1 = 1.5 p0"), std::string::npos) << text.out;
+  const fs::path shear = spec_file(R"({"experiment": "crystal_shear", "crystal": {"lattice": "sc"}})", "shear.json");
+  const RunResult sheared = run({"estimate", shear.string()});
+  ASSERT_EQ(sheared.exit_code, 0) << sheared.err;
+  EXPECT_NE(sheared.out.find("tau / sigma_n = 0.35, sliding on (1 0 0) along [0 1 0]"), std::string::npos) << sheared.out;
+  const fs::path bad = spec_file(R"({"experiment": "crystal_shear", "loading": {"direction": [1, 0, 0]}})", "bad.json");
+  const RunResult refused = run({"estimate", bad.string()});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("loading.direction"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. version
 
 // --help and --version work alone and after any command: usage or version on stdout, exit 0, nothing run.
 TEST_F(CliTest, HelpAndVersionForEveryCommand) {

@@ -53,16 +53,21 @@ TINY = {
                             "loading": {"rate_number": 0.1}, "output": {"curve_points": 4}},
     "crystal_confinement": {"experiment": "crystal_confinement", "grain": {"edge_spheres": 2},
                             "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 1}},
+    "crystal_shear": {"experiment": "crystal_shear", "grain": {"edge_spheres": 2},
+                      "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 5, "layers_y": 1},
+                      "loading": {"rate_number": 0.1, "max_shear_strain": 0.001}, "output": {"curve_points": 4}},
 }
 REGION = {"x": 0, "z": 0, "radius": 1}  # a valid element of an array of objects (crystal.knockout_regions)
 # Arrays whose elements hold exactly one of their fields (a loading program's segments): an element made
 # of the field alone is valid, and this one is valid for the element cases.
 ONE_OF = {"program": {"to_strain": 0.001}}
+# ... where an experiment's elements are other fields (a shear's program moves to shear strains).
+ONE_OF_OF = {("crystal_shear", "program"): {"to_shear_strain": 0.001}}
 
 
-def valid_element(name):
-    """A valid element of the array of objects `name` (its key, e.g. knockout_regions)."""
-    return dict(ONE_OF.get(name, REGION))
+def valid_element(name, experiment=None):
+    """A valid element of the array of objects `name` (its key, e.g. knockout_regions) of `experiment`."""
+    return dict(ONE_OF_OF.get((experiment, name), ONE_OF.get(name, REGION)))
 
 
 def tiny(experiment):
@@ -506,10 +511,10 @@ def field_cases(experiments):
                 if kind == "array of objects":
                     bad += [("element number", [1], element), ("element string", ["x"], element),
                             ("element array", [[]], element), ("element bool", [True], element),
-                            ("element with an unknown key", [dict(valid_element(name.split(".")[-1]), bogus=1)],
+                            ("element with an unknown key", [dict(valid_element(name.split(".")[-1], exp), bogus=1)],
                              (where + "[0].bogus",))]
                     if "max_items" in f:
-                        bad.append(("too many items", [valid_element(name.split(".")[-1])] * (f["max_items"] + 1), (where,)))
+                        bad.append(("too many items", [valid_element(name.split(".")[-1], exp)] * (f["max_items"] + 1), (where,)))
                 else:
                     bad += [("element string", ["x"], element), ("element bool", [True], element),
                             ("element array", [[0]], element), ("element object", [{}], element),
@@ -582,7 +587,7 @@ def structure_cases(experiments):
         for lst in lists:
             section, key = lst.split(".", 1)
             doc = tiny(exp)
-            doc.setdefault(section, {})[key] = [valid_element(key), dict(valid_element(key), bogus=True)]
+            doc.setdefault(section, {})[key] = [valid_element(key, exp), dict(valid_element(key, exp), bogus=True)]
             cases.append(post_spec(f"{exp} unknown key in {lst}[1]", dumps(doc), expect=400, field=f"{lst}[1].bogus",
                                    code="unknown_field"))
             doc = tiny(exp)

@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Crystals of every lattice through a real granulabd (issue 26): SC along [1 1 0], BCC along [1 1 1] with its
 lateral direction given, HCP along a1 in the four-index form [2 -1 -1 0] (compressions, with snapshots), and an
-HCP confinement. Each is dry-run first (its estimate names its spheres), runs to `succeeded`, and what a user
+HCP confinement, and a shear of cubes (crystal_shear, issue 27). Each is dry-run first (its estimate names its spheres), runs to `succeeded`, and what a user
 reads of it holds: the normalised spec keeps the lattice and the axis, the grain shape follows the lattice, the
 curve has its rows, the section picture of a snapshot draws the grains of one layer with the layer named by its
-Miller indices, and a spec whose grain is not its lattice's is refused naming grain.shape.
+Miller indices, and a spec whose grain is not its lattice's is refused naming grain.shape. The dry runs carry the
+rigid-grain yield estimate: Coulomb's (1 + f)/(1 - f) for the cubes along [1 1 0], f for the cubes sheared on a cube
+face; the shear's summary has its peak, residual and dilation angle, and its curve picture draws the estimate.
 
 One daemon (--workers 1 --threads 2, a real SQLite file in a temporary folder). About 20 s on 2 cores.
 Standard library only. The daemon binary comes from $GRANULABD (set by CTest) or build/granulabd.
@@ -50,6 +52,11 @@ CASES = {
     # [2 -1 -1 0] = 3 a1 -> along a1; x = c by default (shorter than a1 + 2 a2), y = a1 x c: a prism plane
     "hcp": (compression("hcp", [2, -1, -1, 0]), "trapezo_rhombic_dodecahedron", "(0 1 -1 0) layer"),
 }
+SHEAR = {"experiment": "crystal_shear", "label": "cubes on (1 0 0) along [0 1 0]", "grain": {"edge_spheres": 4},
+         "crystal": {"lattice": "sc", "grains_x": 4, "layers_y": 4, "rows_z": 4},
+         "loading": {"plane": [1, 0, 0], "direction": [0, 1, 0], "confining_pressure": 30000,
+                     "max_shear_strain": 0.01, "rate_number": 4e-5},
+         "output": {"curve_points": 20, "snapshot_strains": [0.01]}}
 CONFINEMENT = {"experiment": "crystal_confinement", "grain": {"edge_spheres": 4},
                "crystal": {"lattice": "hcp", "grains_x": 3, "layers_y": 4, "rows_z": 5},
                "loading": {"confining_pressure": 30000}}
@@ -79,8 +86,10 @@ class LatticeEndToEndTest(unittest.TestCase):
             except Exception:
                 time.sleep(0.05)
         cls.estimates = {name: cls.client.dry_run(spec) for name, (spec, _, _) in CASES.items()}
+        cls.estimates["shear"] = cls.client.dry_run(SHEAR)
         cls.jobs = {name: cls.client.submit(spec) for name, (spec, _, _) in CASES.items()}
         cls.jobs["confinement"] = cls.client.submit(CONFINEMENT)
+        cls.jobs["shear"] = cls.client.submit(SHEAR)
         cls.final = {name: cls.client.wait(job, timeout=300) for name, job in cls.jobs.items()}
 
     @classmethod
@@ -127,6 +136,35 @@ class LatticeEndToEndTest(unittest.TestCase):
                 self.assertGreaterEqual(len(p.get("points").split()), 3, (name, p.get("data-id")))
             captions = " ".join(t.text or "" for t in root.iter(SVG + "text"))
             self.assertIn(planes, captions, name)
+
+    def test_dry_runs_carry_the_rigid_grain_yield_estimate(self):
+        f = 0.35  # the material's default friction
+        cubes = self.estimates["sc"]["yield_estimate"]
+        self.assertTrue(cubes["found"])
+        self.assertAlmostEqual(cubes["axial_over_p0"], (1 + f) / (1 - f), places=9)
+        self.assertEqual(len(cubes["plane"].strip("()").split()), 3)
+        shear = self.estimates["shear"]["yield_estimate"]
+        self.assertAlmostEqual(shear["shear_over_normal"], f, places=9)
+        self.assertEqual((shear["plane"], shear["direction"]), ("(1 0 0)", "[0 1 0]"))
+        self.assertAlmostEqual(shear["dilation_angle"], 0, places=6)
+        self.assertEqual(shear["units"]["dilation_angle"], "deg")
+        # BCC along [1 1 1]: no plane slides rigidly; the answer says so.
+        self.assertFalse(self.estimates["bcc"]["yield_estimate"]["found"])
+        self.assertIn("locked", self.estimates["bcc"]["yield_estimate"]["note"])
+
+    def test_a_shear_reports_its_slip_law_and_draws_the_estimate(self):
+        summary = self.final["shear"]["summary"]
+        self.assertEqual(summary["layer_grains"], {"bottom": 16, "top": 16})
+        self.assertGreater(summary["peak"]["shear_over_normal"], 0.2)
+        self.assertIn("over_estimate", summary["peak"])
+        self.assertIn("shear_over_normal", summary["residual"])
+        self.assertIn("dilation_angle", summary)
+        self.assertEqual(summary["yield_estimate"]["plane"], "(1 0 0)")
+        curve = self.client.curve(self.jobs["shear"])
+        self.assertGreaterEqual(len(curve["shear_over_normal"]), 20)
+        self.assertAlmostEqual(curve["shear_strain"][-1], 0.01, delta=1e-4)
+        svg = self.get("/v1/jobs/%d/curve.svg" % self.jobs["shear"]).decode()
+        self.assertIn("rigid-grain estimate", svg)
 
     def test_a_grain_that_is_not_the_lattices_is_refused_naming_the_field(self):
         spec = json.loads(json.dumps(CASES["sc"][0]))

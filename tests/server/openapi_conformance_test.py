@@ -105,6 +105,8 @@ NULL_SECTIONS = {"experiment": "two_cube_sliding", "label": None, "material": No
                  "output": {"curve_points": 5}}
 CONFINEMENT = {"experiment": "crystal_confinement", "grain": {"edge_spheres": 2},
                "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 1}}
+SHEAR = {"experiment": "crystal_shear", "grain": {"edge_spheres": 2},
+         "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 1}}
 IMPERFECT = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
              "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 1},
              "imperfections": {"size_dispersion": 0.05, "misorientation": 5, "seed": 2147483647},
@@ -826,7 +828,8 @@ class OpenApiConformanceTest(unittest.TestCase):
                            ("a program beyond the default max_strain", PROGRAM),
                            ("all of those", ALL_BEYOND), ("the default experiment left out", NO_EXPERIMENT),
                            ("experiment null (the default)", NULL_EXPERIMENT), ("sections null", NULL_SECTIONS),
-                           ("crystal_confinement", CONFINEMENT), ("imperfections at their bounds", IMPERFECT)]:
+                           ("crystal_confinement", CONFINEMENT), ("crystal_shear", SHEAR),
+                           ("imperfections at their bounds", IMPERFECT)]:
             cases.append(P("?dry_run=true", spec, expect=200, what=name))
         cases += [P("?dry_run=true", dict(CRYSTAL, crystal={"grains_x": 100, "rows_z": 400, "layers_y": 10}), expect=200,
                     what="over budget: the 400's message in the estimate")]

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/spec_docs.h"
+#include "engine/experiments/registry.h"
 #include "server/openapi.h"
 #include "tests/server/daemon_fixture.h"
 
@@ -125,7 +126,7 @@ TEST_F(Daemon, ServesTheApiDocumentWithTheEngineVersion) {
   const nlohmann::json doc = get("/v1/openapi.json");
   EXPECT_EQ(doc["info"]["version"], get("/v1/health")["engine_version"]);
   EXPECT_TRUE(doc["paths"].contains("/v1/jobs/{id}/snapshots/{k}.svg"));
-  EXPECT_EQ(doc["components"]["schemas"]["Spec"]["oneOf"].size(), 3u);
+  EXPECT_EQ(doc["components"]["schemas"]["Spec"]["oneOf"].size(), experiment_types().size());
 }
 
 }  // namespace

@@ -70,7 +70,13 @@ def two_cube_spec():
 
 
 def series_of(root):
-    return [p for p in root.iter(SVG + "polyline") if p.get("class") == "series"]
+    """The curves drawn solid: the headline's series (the dashed ones are its closed forms and estimates)."""
+    return [p for p in root.iter(SVG + "polyline") if p.get("class") == "series" and not p.get("stroke-dasharray")]
+
+
+def references_of(root):
+    """The dashed lines: closed forms, and a crystal's rigid-grain yield estimate."""
+    return [p for p in root.iter(SVG + "polyline") if p.get("class") == "series" and p.get("stroke-dasharray")]
 
 
 def points_of(element):
@@ -304,6 +310,9 @@ class ResultsEndToEndTest(unittest.TestCase):
             self.assertEqual(title_of(root), f"{SWEEP_LABEL} (loading.confining_pressure={pressure})")
             series = series_of(root)
             self.assertEqual([s.get("data-label") for s in series], ["deviator", "top platen", "bottom platen"])
+            # Dashed beside them, the rigid-grain estimate of the first yield on a {111} plane (docs/model.md).
+            self.assertEqual([s.get("data-label") for s in references_of(root)],
+                             ["rigid-grain yield estimate, (1 -1 -1)"])
             rows = curve_rows(self.client.curve(job))
             for s in series:
                 self.assertEqual(len(points_of(s)), rows)
@@ -348,10 +357,8 @@ class ResultsEndToEndTest(unittest.TestCase):
         self.succeeded(self.two_cube)
         root = self.get_svg(f"/v1/jobs/{self.two_cube}/curve.svg")
         self.assertEqual(title_of(root), two_cube_spec()["label"])
-        series = series_of(root)
-        self.assertEqual(len(series), 4)
-        dashed = [s for s in series if s.get("stroke-dasharray")]
-        solid = [s for s in series if not s.get("stroke-dasharray")]
+        dashed, solid = references_of(root), series_of(root)
+        self.assertEqual(len(dashed) + len(solid), 4)
         self.assertEqual([s.get("data-label") for s in solid], ["P", "T"])
         self.assertIn("force (P0)", "".join(root.itertext()))
         self.assertEqual(len(dashed), 2)

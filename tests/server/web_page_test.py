@@ -196,8 +196,9 @@ class WebPageTest(unittest.TestCase):
         job = self.daemon.call("POST", "/v1/jobs", CRYSTAL)["id"]
         self.assertEqual(self.daemon.wait(job), "succeeded")
         self.browser.open(f"{self.daemon.url}/#/jobs/{job}")
-        # The server's curve picture, inline: deviator and the two platens.
-        self.assertEqual(self.browser.until("document.querySelectorAll('#curve svg polyline.series').length"), 3)
+        # The server's curve picture, inline: deviator and the two platens, and the dashed yield estimate.
+        self.assertEqual(self.browser.until("document.querySelectorAll('#curve svg polyline.series:not([stroke-dasharray])').length"), 3)
+        self.assertEqual(self.browser.js("document.querySelectorAll('#curve svg polyline.series[stroke-dasharray]').length"), 1)
         self.assertIn("first yield", self.browser.js("document.querySelector('#curve svg').textContent"))
         # The headline's key values in the crystal's natural unit, and its summary tables (one segment here).
         key_values = self.browser.until("document.getElementById('key-values') && "
@@ -215,7 +216,7 @@ class WebPageTest(unittest.TestCase):
         self.browser.js("""(() => { const y = document.getElementById('curve-y'); y.value = '';
                            const u = document.getElementById('curve-units'); u.value = 'si';
                            u.dispatchEvent(new Event('change')); })()""")
-        self.assertTrue(self.browser.until("document.querySelectorAll('#curve svg polyline.series').length === 3 && "
+        self.assertTrue(self.browser.until("document.querySelectorAll('#curve svg polyline.series:not([stroke-dasharray])').length === 3 && "
                                            "document.querySelector('#curve svg').textContent.includes('stress (kPa)')"))
         # The latest snapshot's section: one hexagon per grain of the middle layer (3 x 6).
         self.assertEqual(self.browser.until("document.querySelectorAll('#snapshot svg polygon.grain').length"), 18)

@@ -61,10 +61,9 @@ struct CrystalCompression::ProgressShare {
     const double confinement_steps = p.confinement == Confinement::face_forces ? 0 : expected_confinement_steps(p);
     for (const WorkPhase& phase : loading_phases(p, length, dt)) compression_steps += phase.steps;
     share = confinement_steps / (confinement_steps + compression_steps);
-    // confine()'s progress time constant: 20 servo times of 50 contact times.
-    confinement_constants = confinement_steps * dt / (20 * 50 * sample.contact_time());
+    confinement_constants = confinement_steps / confinement_progress_steps(sample);
   }
-  /// confine() reports 1 - exp(-steps / time constant): back to steps, of the expected ones.
+  /// confine()'s fraction back to steps, of the expected ones.
   double confining(double f) const {
     return share * std::min(1.0, -std::log(std::max(1e-12, 1 - f)) / confinement_constants);
   }

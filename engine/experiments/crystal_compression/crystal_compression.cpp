@@ -7,7 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "engine/analysis/grain_kinematics.h"
 
 namespace granulab {
 
@@ -54,9 +53,6 @@ std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve,
   return {at, best};
 }
 
-double quasi_static_rate_number(double confining_pressure, double youngs_modulus) {
-  return std::clamp(confining_pressure / youngs_modulus, 1e-8, 0.1);  // the field's allowed range
-}
 
 namespace {
 CrystalParams with_rate(CrystalParams p) {
@@ -92,61 +88,16 @@ double CrystalCompression::deviator() const {
          params_.confining_pressure;
 }
 
-GrainSnapshot CrystalCompression::snapshot(double strain) const {
-  const World& world = sample_.world();
-  const std::vector<GrainId>& ids = sample_.grain_ids();
-  const Bodies& b = world.bodies();
-  GrainSnapshot s;
-  s.strain = strain;
-  s.step = world.steps();
-  s.grain_shape = sample_.grain().geometry().shape;
-  s.grain_size = params_.grain.size;
-  s.layer_spacing = sample_.lattice().period.y();
-  s.layer_planes = layer_planes(sample_.lattice());
-  s.id = ids;
-  s.position = b.position;
-  s.orientation = b.orientation;
-  s.displacement.resize(b.size());
-  for (std::size_t i = 0; i < b.size(); ++i) s.displacement[i] = b.position[i] - ref_position_[i];
-  s.penetration = world.overlap_sums();
-  double mean = 0;
-  for (double d : s.penetration) mean += d;
-  mean /= s.penetration.size();
-  for (double d : s.penetration) s.penetration_ratio.push_back(mean > 0 ? d / mean : 0);
-  for (const LocalStrain& e : local_strains(ref_position_, b.position, interfaces_)) {
-    s.max_shear_strain.push_back(e.max_shear);
-    s.equivalent_strain.push_back(e.equivalent);
-  }
-  for (const auto& [p, q] : interfaces_) s.interfaces.push_back({ids[p], ids[q]});
-  s.sliding = interface_sliding(ref_position_, ref_orientation_, b.position, b.orientation, interfaces_);
-  return s;
-}
+GrainSnapshot CrystalCompression::snapshot(double strain) const { return crystal_snapshot(sample_, ref_, strain); }
 
 void CrystalCompression::take_reference() {
-  const Bodies& b = sample_.world().bodies();
-  ref_position_ = b.position;
-  ref_orientation_ = b.orientation;
-  interfaces_ = neighbour_pairs(ref_position_, 1.1 * sample_.face_neighbour_distance());
-  ref_width_ = mean_coordinate(sample_.side(1), ref_position_, 0) - mean_coordinate(sample_.side(0), ref_position_, 0);
-  ref_thickness_ =
-      mean_coordinate(sample_.side(3), ref_position_, 1) - mean_coordinate(sample_.side(2), ref_position_, 1);
+  ref_.take(sample_);
+  const std::vector<Vec3>& x = ref_.position;
+  ref_width_ = mean_coordinate(sample_.side(1), x, 0) - mean_coordinate(sample_.side(0), x, 0);
+  ref_thickness_ = mean_coordinate(sample_.side(3), x, 1) - mean_coordinate(sample_.side(2), x, 1);
   const auto& walls = sample_.world().walls();
   ref_length_ = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();
 }
-
-namespace {
-
-// The snapshots are kept as (strain, step) only: the summary lists no more, and the sink has the rest.
-void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s) {
-  a.value(std::uint64_t(s.size()));
-  for (const GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
-}
-void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s) {
-  s.resize(a.value<std::uint64_t>());
-  for (GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
-}
-
-}  // namespace
 
 template <class Archive, class Self, class At, class Result>
 void CrystalCompression::state(Archive& a, Self& self, At& at, Result& r) {
@@ -156,9 +107,9 @@ void CrystalCompression::state(Archive& a, Self& self, At& at, Result& r) {
   a.values(r.curve);
   a.values(r.segments);
   snapshot_marks(a, r.snapshots);
-  a.values(self.ref_position_);
-  a.values(self.ref_orientation_);
-  a.values(self.interfaces_);
+  a.values(self.ref_.position);
+  a.values(self.ref_.orientation);
+  a.values(self.ref_.interfaces);
   a.value(self.ref_length_), a.value(self.ref_width_), a.value(self.ref_thickness_);
 }
 

@@ -14,7 +14,8 @@
 
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
-#include "engine/experiments/crystal_compression/loading_program.h"
+#include "engine/crystal/crystal_snapshot.h"
+#include "engine/crystal/loading_program.h"
 #include "engine/framework/result_sink.h"
 
 namespace granulab {
@@ -67,13 +68,6 @@ struct CrystalResult {
   std::uint64_t compression_steps = 0;  ///< time steps of the compression phase (-)
 };
 
-/// The default rate number R = p0 / E (-), within [1e-8, 0.1]: a constant rate whose curve stays within
-/// 2 % of one at R = 5e-6 or less (mean deviator and mean top against bottom over strain windows, first
-/// yield), measured at 10, 30 and 60 kPa on N_e = 4 crystals to 3 % and on the reference crystal at
-/// N_e = 10 to 2 %, where 1.5 p0 / E was off by 2.1 % (docs/results.md, "Quasi-static rate"). It scales with
-/// p0 / E because a slip event loads the crystal by about E R (c / L) times its duration, against a
-/// strength of order p0.
-double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
 
 /// The expected time steps of each loading segment (one without a program) of a sample of `length` (m)
 /// stepped by `time_step` (s).
@@ -154,9 +148,7 @@ class CrystalCompression {
   CrystalParams params_;
   CrystalSample sample_;
   // Reference state (end of confinement).
-  std::vector<Vec3> ref_position_;
-  std::vector<Quat> ref_orientation_;
-  std::vector<BodyPair> interfaces_;
+  CrystalReference ref_;
   double ref_length_ = 0, ref_width_ = 0, ref_thickness_ = 0;
 };
 

@@ -16,6 +16,7 @@ struct CrystalSummary : ExperimentResult {
   CrystalResult r;
   CrystalParams params;
   double p0 = 0;  // Pa
+  std::optional<YieldEstimate> estimate;
 
   void write_summary(SummaryWriter& w) const override {
     write_run_stats(w, r.run);
@@ -31,16 +32,20 @@ struct CrystalSummary : ExperimentResult {
     double peak = 0, peak_strain = 0;
     for (const CrystalRow& row : r.curve)
       if (row.deviator > peak) peak = row.deviator, peak_strain = row.strain;
-    auto stress_point = [&](const char* key, double strain, double deviator) {
+    auto stress_point = [&](const char* key, double strain, double deviator, bool against_estimate) {
       w.begin_group(key);
       w.number("strain", strain, "-");
       w.number("deviator", deviator, "Pa");
       w.number("deviator_over_p0", p0 > 0 ? deviator / p0 : 0.0, "-");
       w.number("axial_over_p0", p0 > 0 ? (deviator + p0) / p0 : 0.0, "-");
+      // sigma1 measured over the rigid-grain estimate's (yield_estimate.h), when the run yielded and it found one
+      if (against_estimate && estimate && estimate->found && deviator > 0 && p0 > 0)
+        w.number("over_estimate", (deviator + p0) / p0 / estimate->axial_over_p0, "-");
       w.end_group();
     };
-    stress_point("first_yield", yield_strain, yield_deviator);
-    stress_point("peak", peak_strain, peak);
+    stress_point("first_yield", yield_strain, yield_deviator, true);
+    stress_point("peak", peak_strain, peak, false);
+    if (estimate) write_yield_estimate(w, *estimate);
     w.begin_list("snapshots");
     for (std::size_t k = 0; k < r.snapshots.size(); ++k) {
       w.begin_group(nullptr);
@@ -212,9 +217,14 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
             "axial strains at which snapshots are taken (at most loading.max_strain)");
 }
 
+std::optional<YieldEstimate> CrystalCompressionExperiment::yield_estimate() const {
+  return compression_yield_estimate(params.lattice, direction_vector(params.lattice, params.axis, 1),
+                                    params.material.friction);
+}
+
 Headline CrystalCompressionExperiment::headline() const {
   const Scale per_p0{1, "p0", "loading.confining_pressure"};
-  return {"strain",
+  Headline h{"strain",
           {"axial strain", {100, "%"}, {100, "%"}},
           {"stress", per_p0, {1e-3, "kPa"}},
           {{"deviator", "deviator"}, {"top platen", "stress_top"}, {"bottom platen", "stress_bottom"}},
@@ -223,6 +233,16 @@ Headline CrystalCompressionExperiment::headline() const {
           {{"segments", "loading segments"}, {"cycles", "load-unload cycles"}},
           {},
           "platen stresses include p0"};
+  // The rigid-grain estimate of the first yield (dashed, in the deviator's colour), when there is one.
+  if (const auto e = yield_estimate(); e && e->found) {
+    const double deviator = e->axial_over_p0 - 1, p0 = params.confining_pressure;
+    h.references.push_back({"rigid-grain yield estimate, " + e->plane_text,
+                            0,
+                            {0, params.max_strain},
+                            {deviator, deviator},
+                            {1e-3 * deviator * p0, 1e-3 * deviator * p0}});
+  }
+  return h;
 }
 
 Workload CrystalCompressionExperiment::workload() const {
@@ -252,6 +272,7 @@ std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& 
   out->r = experiment.run(sink, resume);
   out->p0 = params.confining_pressure;
   out->params = params;
+  out->estimate = yield_estimate();
   return out;
 }
 

@@ -16,6 +16,7 @@ class CrystalCompressionExperiment : public Experiment {
   const std::vector<CurveColumn>& curve_columns() const override { return CrystalRow::columns(); }
   Headline headline() const override;
   Workload workload() const override;
+  std::optional<YieldEstimate> yield_estimate() const override;
   std::unique_ptr<ExperimentResult> run(ResultSink& sink, const CheckpointSource* resume) const override;
 };
 

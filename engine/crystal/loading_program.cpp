@@ -1,4 +1,4 @@
-#include "engine/experiments/crystal_compression/loading_program.h"
+#include "engine/crystal/loading_program.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,54 @@
+#include "engine/crystal/crystal_snapshot.h"
+
+#include "engine/analysis/grain_kinematics.h"
+
+namespace granulab {
+
+void CrystalReference::take(const CrystalSample& sample) {
+  const Bodies& b = sample.world().bodies();
+  position = b.position;
+  orientation = b.orientation;
+  interfaces = neighbour_pairs(position, 1.1 * sample.face_neighbour_distance());
+}
+
+GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReference& ref, double strain) {
+  const World& world = sample.world();
+  const std::vector<GrainId>& ids = sample.grain_ids();
+  const Bodies& b = world.bodies();
+  GrainSnapshot s;
+  s.strain = strain;
+  s.step = world.steps();
+  s.grain_shape = sample.grain().geometry().shape;
+  s.grain_size = sample.params().grain.size;
+  s.layer_spacing = sample.lattice().period.y();
+  s.layer_planes = layer_planes(sample.lattice());
+  s.id = ids;
+  s.position = b.position;
+  s.orientation = b.orientation;
+  s.displacement.resize(b.size());
+  for (std::size_t i = 0; i < b.size(); ++i) s.displacement[i] = b.position[i] - ref.position[i];
+  s.penetration = world.overlap_sums();
+  double mean = 0;
+  for (double d : s.penetration) mean += d;
+  mean /= s.penetration.size();
+  for (double d : s.penetration) s.penetration_ratio.push_back(mean > 0 ? d / mean : 0);
+  for (const LocalStrain& e : local_strains(ref.position, b.position, ref.interfaces)) {
+    s.max_shear_strain.push_back(e.max_shear);
+    s.equivalent_strain.push_back(e.equivalent);
+  }
+  for (const auto& [p, q] : ref.interfaces) s.interfaces.push_back({ids[p], ids[q]});
+  s.sliding = interface_sliding(ref.position, ref.orientation, b.position, b.orientation, ref.interfaces);
+  return s;
+}
+
+void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s) {
+  a.value(std::uint64_t(s.size()));
+  for (const GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
+}
+
+void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s) {
+  s.resize(a.value<std::uint64_t>());
+  for (GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
+}
+
+}  // namespace granulab
