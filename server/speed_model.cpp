@@ -19,6 +19,9 @@ struct TablePoint {
 // AVX-512 VM). A server on another machine scales them by its speed probe, then by its own finished jobs.
 constexpr TablePoint kTable[] = {
     {976, 2, 1.72e8},       // two cubes, N_e = 10 (two runs: 1.51e8, 1.95e8)
+    // shear_cubes (80 cubes of 56 spheres, 0.27 ms/step: a small crystal's per-step overhead), 2026-12-04 on a
+    // VM whose probe read 0.57 of the table machine: 1.67e7 measured, 1.67e7 / 0.57 here
+    {4480, 80, 2.93e7},
     {23760, 216, 9.15e7},   // crystal_quick (8.54e7, 9.81e7)
     {95040, 864, 1.07e8},   // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4: 0.96-1.15e8)
     {260928, 864, 2.30e8},  // fig7a_ne6
