@@ -44,7 +44,7 @@ const char* kUsage =
     "            --max-queued-per-user 1000 --max-running-per-user 0 (no limit) --request-timeout 10\n"
     "            --keep-alive-timeout 5 --max-connections 512 --max-connections-per-peer (a quarter of them)\n"
     "            --max-memory (half the physical memory, in MB) --max-sphere-steps 4e12 --checkpoint-seconds 60\n"
-    "            --speed-probe-seconds 0.2 --max-sweep-mb 16 (the specs one sweep stores, points x spec size)\n"
+    "            --speed-probe-seconds 0.5 --max-sweep-mb 16 (the specs one sweep stores, points x spec size)\n"
     "  --max-db-mb: the database file may not grow past this (default: the disk's space); past it, or on a\n"
     "               full disk, submissions answer 507 and running jobs fail with the reason\n"
     "  --max-user-mb: what one user's jobs may hold or be expected to write in the store (default: no\n"
@@ -76,7 +76,7 @@ struct DaemonOptions {
   std::string host = "127.0.0.1", db = "var/granulab.db", token_file, executor_name = "local", jwt_key_file;
   slurm::ExecutorOptions slurm;
   int port = 8080, workers = 1, threads = 0, max_running_per_user = 0, checkpoint_seconds = 60, max_db_mb = 0;
-  double speed_probe_seconds = 0.2;
+  double speed_probe_seconds = 0.5;
   HttpOptions http;
   bool help = false;
 };

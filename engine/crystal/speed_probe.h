@@ -7,7 +7,7 @@
 namespace granulab {
 
 struct SpeedProbeResult {
-  double sphere_steps_per_second = 0;  ///< the median of its membrane intervals (1/s)
+  double sphere_steps_per_second = 0;  ///< its fastest chunk of 50 steps (1/s)
   long steps = 0;                      ///< time steps taken (-)
   double seconds = 0;                  ///< wall time of the steps, the crystal's construction excluded (s)
 };
