@@ -8,6 +8,7 @@ namespace granulab::api {
 
 std::string JsonSummaryWriter::path(const char* key) const {
   const std::string& prefix = stack_.back().path;
+  if (stack_.back().node->is_array()) return prefix + "[]";  // an element: its key is ignored (may be null)
   return prefix.empty() ? key : prefix + "." + key;
 }
 
@@ -35,10 +36,9 @@ void JsonSummaryWriter::flag(const char* key, bool value) { slot(key) = value; }
 void JsonSummaryWriter::text(const char* key, const std::string& value) { slot(key) = value; }
 
 void JsonSummaryWriter::begin_group(const char* key) {
-  const bool element = stack_.back().node->is_array();
   nlohmann::json& group = slot(key);
   group = nlohmann::json::object();
-  stack_.push_back({&group, element ? stack_.back().path + "[]" : path(key)});
+  stack_.push_back({&group, path(key)});
 }
 
 void JsonSummaryWriter::end_group() { stack_.pop_back(); }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/crystal/exposed_faces.h"
+#include "engine/crystal/face_springs.h"
 
 namespace granulab {
 
@@ -93,13 +94,12 @@ double hydrostatic_prestrain(const CrystalSampleParams& p) {
   const GrainTemplate grain(g);
   const double k_n = normal_stiffness(grain, e);
   double sum = 0;
-  for (const Face& f : grain.solid().faces()) {
-    long under = 0;
-    for (const Vec3& o : grain.offsets())
-      if (std::abs(o.dot(f.normal) + grain.radius() - f.distance) <= 1e-6 * grain.spacing()) ++under;
-    sum += k_n * double(under) * 4 * f.distance * f.distance;
-  }
+  for (const FaceSpring& f : face_springs(grain)) sum += k_n * double(f.pairs) * f.branch * f.branch;
   return 6 * grain.volume() * p0 / sum;
+}
+
+double crystal_wave_speed(const CrystalSampleParams& p) {
+  return std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
 }
 
 double CrystalSample::face_neighbour_distance() const {

@@ -5,6 +5,7 @@
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
 #include "engine/experiments/crystal_shear/crystal_shear_experiment.h"
+#include "engine/experiments/crystal_stiffness/crystal_stiffness_experiment.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 
 namespace granulab {
@@ -25,6 +26,10 @@ const std::vector<ExperimentType>& experiment_types() {
        "a slab of any crystal sheared on a lattice plane along a direction in it, between rigid layers of its own "
        "grains, under a constant normal stress, in the bag (beyond the paper: the slip law of one slip system)",
        make_crystal_shear},
+      {"crystal_stiffness",
+       "the elastic tensor of any confined crystal: small strains imposed on its boundary grains, the interior "
+       "relaxed and not, the stress from the contact forces (beyond the paper: its \"too stiff\" in numbers)",
+       make_crystal_stiffness},
   };
   return types;
 }

@@ -250,8 +250,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const CheckpointSource* 
   const auto& walls = world.walls();
   const double gap = walls[sample_.top_wall()].point.z() - walls[sample_.bottom_wall()].point.z();
   const double length = ref_length_ > 0 ? ref_length_ : gap;  // before confinement: about it
-  const double wave_speed =
-      std::sqrt(params_.material.youngs_modulus / (params_.material.density * params_.mass_scaling));
+  const double wave_speed = crystal_wave_speed(params_);
   Run run{sink, r, at, Schedule(params_), ProgressShare(params_, sample_, length)};
   run.speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   if (!at.compressing) confine_and_begin(run);

@@ -127,10 +127,6 @@ void CrystalCompression::restore(const CheckpointSource& checkpoint, Position& a
 
 namespace {
 
-double platen_wave_speed(const CrystalParams& p) {
-  return std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
-}
-
 std::string percent(double strain) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g %%", 100 * strain);
@@ -150,7 +146,7 @@ static double release_fraction(const CrystalParams& p) { return 0.45 * std::clam
 // exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
 // lost. A release to a deviator has no slow-down, and gives back release_fraction() of the strain reached.
 std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step) {
-  const double c = platen_wave_speed(p), speed = p.rate_number * c, ramp = 10 * length / c;
+  const double c = crystal_wave_speed(p), speed = p.rate_number * c, ramp = 10 * length / c;
   std::vector<LoadSegment> program = p.program;
   if (program.empty()) program.push_back({LoadSegment::Kind::to_strain, p.max_strain, 0});
   const std::vector<double> travel = planned_segment_travels(program, release_fraction(p));
@@ -171,7 +167,7 @@ std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, dou
 }
 
 double loading_steps_bound(const CrystalParams& p, double length) {
-  const double c = platen_wave_speed(p);
+  const double c = crystal_wave_speed(p);
   const double travel = p.program.empty() ? p.max_strain : travel_bound(p.program);
   const double moves = p.program.empty() ? 1 : double(p.program.size());
   // The platen's travel at R c, and at most 4 ramps of ten wave transits per segment (loading_phases).

@@ -70,10 +70,6 @@ double shear_dilation_angle(const std::vector<ShearRow>& curve, double at, doubl
 
 namespace {
 
-double wave_speed(const ShearParams& p) {
-  return std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
-}
-
 ShearParams with_defaults(ShearParams p) {
   if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
   if (!(p.normal_stress > 0)) p.normal_stress = p.confining_pressure;
@@ -114,7 +110,7 @@ SlabLayers slab_layers(const ShearParams& p) {
 // it slows down for the next one).
 std::vector<WorkPhase> shear_phases(const ShearParams& p, double gap, double time_step) {
   const ShearParams q = with_defaults(p);
-  const double c = wave_speed(q), speed = q.rate_number * c, ramp = 10 * gap / c;
+  const double c = crystal_wave_speed(q), speed = q.rate_number * c, ramp = 10 * gap / c;
   const std::vector<LoadSegment> program = program_of(q);
   const std::vector<double> travel = planned_segment_travels(program, 0);
   std::vector<WorkPhase> out;
@@ -133,7 +129,7 @@ std::vector<WorkPhase> shear_phases(const ShearParams& p, double gap, double tim
 double shear_steps_bound(const ShearParams& p, double gap) {
   const ShearParams q = with_defaults(p);
   const std::vector<LoadSegment> program = program_of(q);
-  const double c = wave_speed(q);
+  const double c = crystal_wave_speed(q);
   return (travel_bound(program) * gap / (q.rate_number * c) + double(program.size()) * 40 * gap / c) /
              crystal_time_step(q) +
          hold_steps(program);
@@ -369,7 +365,7 @@ ShearResult CrystalShear::run(ResultSink& sink, const CheckpointSource* resume) 
   std::sort(run.snapshot_strains.begin(), run.snapshot_strains.end());
   const double planned = planned_travel(run.program);
   run.travel_per_row = (planned > 0 ? planned : params_.max_shear_strain) / params_.curve_points;
-  const double c = wave_speed(params_);
+  const double c = crystal_wave_speed(params_);
   run.speed = params_.rate_number * c;
   // The progress bar, shared in proportion to the expected steps of the two phases.
   const double gap_estimate = slab_layers(params_).gap;  // as the dry run has it, resumed or not
