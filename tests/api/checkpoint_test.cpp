@@ -31,6 +31,10 @@ const std::map<std::string, std::string> kSpecs = {
       "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 4, "layers_y": 2}, "loading": {"confining_pressure": 30e3,
       "max_shear_strain": 2e-3, "rate_number": 1e-4, "program": [{"to_shear_strain": 1e-3}, {"hold_steps": 200},
       {"to_shear_strain": -5e-4}]}, "output": {"curve_points": 12, "snapshot_strains": [0, 1e-3]}})"},
+    // Through every set: conditioning, affine ramps, relaxed ramps and holds (the interior's motions, the hold's checks).
+    {"crystal_stiffness", R"({"experiment": "crystal_stiffness", "grain": {"edge_spheres": 3},
+      "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3}, "loading": {"confining_pressure": 30e3,
+      "ramp_transits": 1, "relax_checks": 1}})"},
 };
 
 struct Died {};

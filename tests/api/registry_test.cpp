@@ -116,7 +116,9 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
       {"crystal_confinement", R"({"grain": {"edge_spheres": 3}, "crystal": {"grains_x": 2, "rows_z": 4, "layers_y": 2},
         "loading": {"confining_pressure": 30e3}})"},
       {"crystal_shear", R"({"grain": {"edge_spheres": 3}, "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 2},
-        "loading": {"confining_pressure": 30e3, "max_shear_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"}};
+        "loading": {"confining_pressure": 30e3, "max_shear_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"},
+      {"crystal_stiffness", R"({"grain": {"edge_spheres": 3}, "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3},
+        "loading": {"confining_pressure": 30e3, "ramp_transits": 1, "relax_checks": 1}})"}};
   for (const ExperimentType& t : experiment_types()) {
     SCOPED_TRACE(t.name);
     ASSERT_TRUE(short_specs.count(t.name)) << "add a short spec for the new experiment here";

@@ -62,6 +62,11 @@ Voigt6 stress_of(const StiffnessRow* row) {
   return s;
 }
 
+// The passes: 0 conditions affine, 1 measures affine, 2 conditions relaxed, 3 measures relaxed.
+constexpr int kPasses = 4;
+bool relaxed_pass(int pass) { return pass >= 2; }
+bool measured_pass(int pass) { return pass % 2 == 1; }
+
 double amplitude_of(const StiffnessParams& p) {
   return p.strain_amplitude > 0 ? p.strain_amplitude : hydrostatic_prestrain(p) / 4;
 }
@@ -122,9 +127,9 @@ StiffnessSchedule stiffness_schedule(const StiffnessParams& p) {
   s.check_steps = std::max(1.0, std::ceil(4 * s.transit_steps));
   const double affine = 2 * kStiffnessStates * double(p.affine_ramp_steps + 1);  // conditioning and affine
   const double hold = (p.relax_checks + 1) * s.check_steps;
-  s.expected_steps = affine + hold + kStiffnessStates * (s.ramp_steps + hold);
-  s.max_steps = affine + (kStiffnessStates + 1) * std::ceil(p.max_relax_transits * s.transit_steps) +
-                kStiffnessStates * s.ramp_steps;
+  s.expected_steps = affine + 2 * (hold + kStiffnessStates * (s.ramp_steps + hold));
+  s.max_steps = affine + 2 * ((kStiffnessStates + 1) * std::ceil(p.max_relax_transits * s.transit_steps) +
+                              kStiffnessStates * s.ramp_steps);
   return s;
 }
 
@@ -214,7 +219,7 @@ void CrystalStiffness::confine_and_begin(Run& run) {
   r.sample_size = run.schedule.size;
   run.at.begun = true;
   run.at.first = world.steps();
-  run.at.set = -1;
+  run.at.pass = 0;
   begin_set(run);
 }
 
@@ -224,7 +229,7 @@ void CrystalStiffness::begin_set(Run& run) {
   World& world = sample_.world();
   Bodies& bodies = world.bodies();
   for (std::size_t k = 0; k < bodies.size(); ++k) {
-    bodies.motion[k] = at.set == 1 && interior_[k] ? Motion::dynamic : Motion::prescribed;  // conditioning: as affine
+    bodies.motion[k] = relaxed_pass(at.pass) && interior_[k] ? Motion::dynamic : Motion::prescribed;
     bodies.velocity[k].setZero();
     bodies.angular_velocity[k].setZero();
     bodies.angular_momentum[k].setZero();
@@ -237,7 +242,7 @@ void CrystalStiffness::begin_set(Run& run) {
   std::fill(at.from, at.from + 6, 0.0);
   std::fill(at.to, at.to + 6, 0.0);
   std::fill(at.last, at.last + 6, 0.0);
-  if (at.set <= 0) record(run, true);  // nothing moves: the state as it is is the reference
+  if (!relaxed_pass(at.pass)) record(run, true);  // nothing moves: the state as it is is the reference
 }
 
 // The next state's imposed strain: component (state - 1) / 3 to +delta, -delta, then 0.
@@ -255,25 +260,26 @@ void CrystalStiffness::target(Position& at) const {
 void CrystalStiffness::record(Run& run, bool converged) {
   Position& at = run.at;
   const World& world = sample_.world();
-  if (at.set < 0) return advance(run);  // conditioning: not measured
+  if (!measured_pass(at.pass)) return advance(run);  // conditioning
   const Voigt6 s = stress_voigt(interior_stress());
+  const int set = at.pass / 2;
   if (at.state == 0)
-    for (int k = 0; k < 6; ++k) run.r.reference_stress[at.set][k] = s[k];
+    for (int k = 0; k < 6; ++k) run.r.reference_stress[set][k] = s[k];
   StiffnessRow row;
-  row.set = at.set;
+  row.set = set;
   row.state = at.state;
   row.component = at.state == 0 ? 0 : (at.state - 1) / 3 + 1;
   row.imposed_strain = row.component > 0 ? at.to[row.component - 1] : 0.0;
-  for (int k = 0; k < 6; ++k) row.stress[k] = s[k] - run.r.reference_stress[at.set][k];
+  for (int k = 0; k < 6; ++k) row.stress[k] = s[k] - run.r.reference_stress[set][k];
   row.response = row.component > 0 ? row.stress[row.component - 1] : 0.0;
-  row.relax_steps = at.set == 1 ? double(world.steps() - at.stage_first) : 0.0;
+  row.relax_steps = set == 1 ? double(world.steps() - at.stage_first) : 0.0;
   row.converged = converged;
   row.kinetic_elastic_ratio = sample_.kinetic_elastic_ratio();
   row.contacts = world.contact_stats().contacts;
   row.sliding_contacts = world.contact_stats().sliding;
   run.r.curve.push_back(row);
   run.sink.curve_row(row.values());
-  if (at.set == 0 && at.state > 0) at.scale = std::max(at.scale, std::abs(row.response));
+  if (set == 0 && at.state > 0) at.scale = std::max(at.scale, std::abs(row.response));
   advance(run);
 }
 
@@ -282,7 +288,7 @@ void CrystalStiffness::advance(Run& run) {
   Position& at = run.at;
   if (++at.state <= kStiffnessStates) {
     target(at);
-  } else if (++at.set <= 1) {
+  } else if (++at.pass < kPasses) {
     begin_set(run);
   }
 }
@@ -296,7 +302,7 @@ void CrystalStiffness::step_state(Run& run) {
   const double dt = world.settings().time_step;
   const std::uint64_t into = world.steps() - at.stage_first;
   if (at.ramping) {
-    const double steps = at.set <= 0 ? double(params_.affine_ramp_steps) : run.schedule.ramp_steps;
+    const double steps = relaxed_pass(at.pass) ? run.schedule.ramp_steps : double(params_.affine_ramp_steps);
     if (double(into) < steps) {
       const double u = double(into + 1) / steps, h = (1 - std::cos(M_PI * u)) / 2;
       Voigt6 e;
@@ -313,7 +319,7 @@ void CrystalStiffness::step_state(Run& run) {
     at.ramping = false;
     at.stage_first = world.steps();
     sample_.check_finite();
-    if (at.set <= 0) {
+    if (!relaxed_pass(at.pass)) {
       // One step at rest before the measure: the ramp's last step still moved, and the contacts' damping would
       // add c v to the forces (measured: 6 % on C11 with a 10-step ramp).
       world.step();
@@ -345,12 +351,12 @@ StiffnessResult CrystalStiffness::run(ResultSink& sink, const CheckpointSource* 
   run.confinement_steps = expected_confinement_steps(params_);
   run.share = run.confinement_steps / (run.confinement_steps + run.schedule.expected_steps);
   if (!at.begun) confine_and_begin(run);
-  while (at.set < 2) {
+  while (at.pass < kPasses) {
     step_state(run);
     const double fraction = double(world.steps() - at.first) / std::max(1.0, run.schedule.expected_steps);
     if (world.steps() % 100 == 0 && !sink.progress(run.share + (1 - run.share) * std::min(0.99, fraction)))
       throw Cancelled();
-    if (at.set < 2) safe_point(run);
+    if (at.pass < kPasses) safe_point(run);
   }
   sink.progress(1.0);
   r.stiffness_steps = world.steps() - at.first;

@@ -1,14 +1,14 @@
 // The elastic tensor of a confined crystal (docs/model.md, "Crystal stiffness"): small homogeneous strains imposed
 // on its boundary grains while the interior relaxes, the stresses from the contact forces.
 //  1. build and confine: a CrystalSample at p0 (confinement.h), as every crystal experiment; the platens step back.
-//  2. conditioning: the affine pass below, once, not measured. After confinement some contacts are at the Coulomb
-//     limit or barely touch; the first small strain slides or reopens them once, which shifted the affine states'
-//     stresses by up to 9 % of the response (measured), and never again after.
-//  3. affine: every grain moves with the imposed strain u = eps (x - x_c) (no grain relaxes), for each of the six
+//  2. affine: every grain moves with the imposed strain u = eps (x - x_c) (no grain relaxes), for each of the six
 //     Voigt components to +delta, to -delta and back to zero, each reached over a smooth ramp of a few steps (the
 //     tangential springs load with the motion, as they would in a run, rather than being teleported unloaded).
-//  4. relaxed: the grains short of a full set of face neighbours (the sample's surface) follow the imposed strain;
+//  3. relaxed: the grains short of a full set of face neighbours (the sample's surface) follow the imposed strain;
 //     the interior is free and relaxes, each state held until the interior's stress stops changing.
+// Each set runs twice, measured the second time. After confinement some contacts are at the Coulomb limit or barely
+// touch; the first small strains slide or reopen them once (they lose their tangential history), which shifted the
+// states' stresses by up to 9 % of the response (measured), and not on the second pass.
 // The stress of a state is the Love-Weber average over the interior grains, sigma = -(1/V) sum (l (x) f) over their
 // contacts (a contact with a boundary grain counts half), tension positive; V their lattice cells. Each column of C
 // is (sigma(+delta) - sigma(-delta)) / (2 delta): central differences, so the pre-stress p0 and any quadratic term
@@ -94,7 +94,7 @@ class CrystalStiffness {
     bool begun = false;
     ConfinementState confinement;
     std::uint64_t first = 0;        ///< world step at which the probing began
-    int set = -1, state = 0;        ///< what is being reached: set -1 conditions, 0 affine, 1 relaxed, 2 done
+    int pass = 0, state = 0;        ///< what is being reached: pass 0 conditions affine, 1 measures it, 2 and 3 relaxed
     bool ramping = true;
     std::uint64_t stage_first = 0;  ///< world step at which its ramp (or hold) began
     double from[6] = {}, to[6] = {};  ///< the imposed Voigt strain at the ramp's start and end (-)
