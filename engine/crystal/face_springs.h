@@ -20,4 +20,9 @@ struct FaceSpring {
 /// The template's faces as springs (one per face of its solid).
 std::vector<FaceSpring> face_springs(const GrainTemplate& grain);
 
+/// How many of the spheres of grain A (turned `turn_a`, at the origin) touch one of grain B's (turned `turn_b`, at
+/// `branch`) when their faces meet, the lattice unstrained: N_f when the two faces' sphere grids line up, as they do
+/// on every face of FCC, SC and HCP, fewer where they do not (BCC's hexagons at N_e = 4: 7 of their 22).
+long touching_pairs(const GrainTemplate& grain, const Quat& turn_a, const Quat& turn_b, const Vec3& branch);
+
 }  // namespace granulab

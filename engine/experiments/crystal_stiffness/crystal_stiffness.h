@@ -75,7 +75,8 @@ double stiffness_nonlinearity(const std::vector<StiffnessRow>& rows, int set);
 /// |sigma back at zero| / |sigma(+) - sigma(-)|, the largest over the components (-): 0 when reversible.
 double stiffness_hysteresis(const std::vector<StiffnessRow>& rows, int set);
 
-/// The affine face-spring prediction for the sample's lattice and grain (crystal frame, Pa; face_springs.h).
+/// The affine face-spring prediction for the sample's lattice and grain (crystal frame, Pa; face_springs.h): each face
+/// N_f aligned pairs, N_f the sphere pairs that touch the neighbour across it (touching_pairs).
 Voigt affine_prediction(const CrystalSampleParams& p);
 /// The sample's largest extent (m) and the steps of the two sets' ramps and holds, expected and at most.
 struct StiffnessSchedule {

@@ -76,14 +76,23 @@ TEST(ElasticTensor, SimpleCubicAffineIsTheFaceSpringClosedForm) {
   expect_near_relative(c(3, 3), n * s.kt / (2 * s.a), 1e-9, "C44");
 }
 
-// Truncated octahedra: n_hex on the 8 hexagons, n_sq on the 6 squares.
+// Truncated octahedra: n_hex touching pairs on each of the 8 hexagons, n_sq on the 6 squares. At N_e = 4 a hexagon
+// holds 22 spheres, but its sphere grid and the neighbour's do not line up (the truncated octahedron has no mirror
+// plane normal to [1 1 1]): 7 pairs touch. A square's 9 all do.
 TEST(ElasticTensor, BodyCentredCubicAffineIsTheFaceSpringClosedForm) {
   const Springs s = springs_of(LatticeType::bcc, 4);
   ASSERT_EQ(s.faces.size(), 14u);
+  GrainGeometry g;
+  g.shape = grain_shape(LatticeType::bcc);
+  g.edge_spheres = 4;
+  const GrainTemplate grain(g);
   double n_hex = 0, n_sq = 0;
   for (const FaceSpring& f : s.faces) {
     const bool square = std::abs(f.normal.cwiseAbs().maxCoeff() - 1) < 1e-9;
-    (square ? n_sq : n_hex) = double(f.pairs);
+    const long touching = touching_pairs(grain, Quat::Identity(), Quat::Identity(), f.branch * f.normal);
+    EXPECT_EQ(f.pairs, square ? 9 : 22);
+    EXPECT_EQ(touching, square ? 9 : 7);
+    (square ? n_sq : n_hex) = double(touching);
   }
   const double a = s.a, kn = s.kn, kt = s.kt;
   const Voigt c = prediction(LatticeType::bcc, 4);
