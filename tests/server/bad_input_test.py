@@ -56,6 +56,9 @@ TINY = {
     "crystal_shear": {"experiment": "crystal_shear", "grain": {"edge_spheres": 2},
                       "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 5, "layers_y": 1},
                       "loading": {"rate_number": 0.1, "max_shear_strain": 0.001}, "output": {"curve_points": 4}},
+    "crystal_stiffness": {"experiment": "crystal_stiffness", "grain": {"edge_spheres": 2},
+                          "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3},
+                          "loading": {"ramp_transits": 1, "relax_checks": 1, "max_relax_transits": 10}},
 }
 REGION = {"x": 0, "z": 0, "radius": 1}  # a valid element of an array of objects (crystal.knockout_regions)
 # Arrays whose elements hold exactly one of their fields (a loading program's segments): an element made

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Crystals of every lattice through a real granulabd (issue 26): SC along [1 1 0], BCC along [1 1 1] with its
 lateral direction given, HCP along a1 in the four-index form [2 -1 -1 0] (compressions, with snapshots), and an
-HCP confinement, and a shear of cubes (crystal_shear, issue 27). Each is dry-run first (its estimate names its spheres), runs to `succeeded`, and what a user
+HCP confinement, a shear of cubes (crystal_shear, issue 27) and the cubes' elastic tensor (crystal_stiffness). Each is dry-run first (its estimate names its spheres), runs to `succeeded`, and what a user
 reads of it holds: the normalised spec keeps the lattice and the axis, the grain shape follows the lattice, the
 curve has its rows, the section picture of a snapshot draws the grains of one layer with the layer named by its
 Miller indices, and a spec whose grain is not its lattice's is refused naming grain.shape. The dry runs carry the
@@ -57,6 +57,9 @@ SHEAR = {"experiment": "crystal_shear", "label": "cubes on (1 0 0) along [0 1 0]
          "loading": {"plane": [1, 0, 0], "direction": [0, 1, 0], "confining_pressure": 30000,
                      "max_shear_strain": 0.01, "rate_number": 4e-5},
          "output": {"curve_points": 20, "snapshot_strains": [0.01]}}
+STIFFNESS = {"experiment": "crystal_stiffness", "label": "cubes' elastic tensor", "grain": {"edge_spheres": 4},
+             "crystal": {"lattice": "sc", "grains_x": 4, "layers_y": 4, "rows_z": 4},
+             "loading": {"axis": [0, 0, 1], "lateral": [1, 0, 0], "confining_pressure": 30000}}
 CONFINEMENT = {"experiment": "crystal_confinement", "grain": {"edge_spheres": 4},
                "crystal": {"lattice": "hcp", "grains_x": 3, "layers_y": 4, "rows_z": 5},
                "loading": {"confining_pressure": 30000}}
@@ -90,6 +93,7 @@ class LatticeEndToEndTest(unittest.TestCase):
         cls.jobs = {name: cls.client.submit(spec) for name, (spec, _, _) in CASES.items()}
         cls.jobs["confinement"] = cls.client.submit(CONFINEMENT)
         cls.jobs["shear"] = cls.client.submit(SHEAR)
+        cls.jobs["stiffness"] = cls.client.submit(STIFFNESS)
         cls.final = {name: cls.client.wait(job, timeout=300) for name, job in cls.jobs.items()}
 
     @classmethod
@@ -165,6 +169,25 @@ class LatticeEndToEndTest(unittest.TestCase):
         self.assertAlmostEqual(curve["shear_strain"][-1], 0.01, delta=1e-4)
         svg = self.get("/v1/jobs/%d/curve.svg" % self.jobs["shear"]).decode()
         self.assertIn("rigid-grain estimate", svg)
+
+    def test_a_stiffness_job_reports_its_tensors_in_pascals(self):
+        summary = self.final["stiffness"]["summary"]
+        for key in ("stiffness", "affine_stiffness", "affine_prediction"):
+            c = summary[key]
+            self.assertEqual([len(row) for row in c], [6] * 6, key)
+            self.assertEqual(summary["units"][key + "[][]"], "Pa")
+        # Cubes: C11 = N k_n / a, N the spheres of a face (docs/model.md, "Crystal stiffness").
+        c11 = summary["spheres_per_face"] * summary["normal_stiffness"] / self.final["stiffness"]["spec"]["grain"]["size"]
+        for key in ("stiffness", "affine_stiffness"):
+            self.assertAlmostEqual(summary[key][0][0] / c11, 1, delta=0.01)
+            self.assertAlmostEqual(summary[key][1][2] / c11, 0, delta=0.01)
+        self.assertEqual(summary["states_not_converged"], 0)
+        self.assertEqual([m["direction"] for m in summary["moduli"]], ["[1 0 0]", "[1 1 0]", "[1 1 1]"])
+        curve = self.client.curve(self.jobs["stiffness"])
+        self.assertEqual(len(curve["response"]), 38)  # two sets of a reference and 18 states
+        self.assertEqual(sorted(set(curve["set"])), [0, 1])
+        svg = self.get("/v1/jobs/%d/curve.svg" % self.jobs["stiffness"]).decode()
+        self.assertIn("stress change", svg)
 
     def test_a_grain_that_is_not_the_lattices_is_refused_naming_the_field(self):
         spec = json.loads(json.dumps(CASES["sc"][0]))
