@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -43,6 +44,14 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
   grains["penetration_ratio"] = s.penetration_ratio;
   grains["max_shear_strain"] = s.max_shear_strain;
   grains["equivalent_strain"] = s.equivalent_strain;
+  if (s.d2min.size() == n) grains["d2min"] = s.d2min;
+  if (s.misorientation.size() == n && s.misorientation_axis.size() == n) {
+    grains["misorientation"] = s.misorientation;
+    for (int k = 0; k < 3; ++k) {
+      const char* axis[] = {"misorientation_axis_x", "misorientation_axis_y", "misorientation_axis_z"};
+      grains[axis[k]] = column(n, [&](std::size_t i) { return s.misorientation_axis[i][k]; });
+    }
+  }
   nlohmann::json interfaces;
   interfaces["a"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].a)); });
   interfaces["b"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].b)); });
@@ -103,6 +112,14 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
   s.penetration_ratio = numbers(g, "penetration_ratio", n);
   s.max_shear_strain = numbers(g, "max_shear_strain", n);
   s.equivalent_strain = numbers(g, "equivalent_strain", n);
+  // Snapshots stored before D^2_min and the misorientation existed have neither: they stay empty.
+  if (g.contains("d2min")) s.d2min = numbers(g, "d2min", n);
+  if (g.contains("misorientation")) {
+    s.misorientation = numbers(g, "misorientation", n);
+    const auto ax = numbers(g, "misorientation_axis_x", n), ay = numbers(g, "misorientation_axis_y", n),
+               az = numbers(g, "misorientation_axis_z", n);
+    for (std::size_t i = 0; i < n; ++i) s.misorientation_axis.emplace_back(ax[i], ay[i], az[i]);
+  }
   const nlohmann::json empty = nlohmann::json::object();
   const auto& f = j.contains("interfaces") && j["interfaces"].is_object() ? j["interfaces"] : empty;
   const std::size_t m = f.contains("a") && f["a"].is_array() ? f["a"].size() : 0;
@@ -129,14 +146,22 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
   const double radius = 0.5 * neighbour_distance(s);
   out +=
       "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
-      "max_shear_strain equivalent_strain\n";
-  char line[512];
+      "max_shear_strain equivalent_strain d2min misorientation misorientation_axis_x misorientation_axis_y "
+      "misorientation_axis_z\n";
+  char line[640];
+  const double nan = std::numeric_limits<double>::quiet_NaN();  // a field the stored snapshot predates
   for (std::size_t i = 0; i < s.id.size(); ++i) {
     const Vec3 &x = s.position[i], &d = s.displacement[i];
     const Quat& q = s.orientation[i];
-    std::snprintf(line, sizeof line, "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g\n",
+    const double d2 = i < s.d2min.size() ? s.d2min[i] : nan;
+    const double angle = i < s.misorientation.size() ? s.misorientation[i] : nan;
+    const Vec3 axis = i < s.misorientation_axis.size() ? s.misorientation_axis[i] : Vec3::Constant(nan);
+    std::snprintf(line, sizeof line,
+                  "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g "
+                  "%.6g\n",
                   value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(),
-                  s.penetration[i], s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i]);
+                  s.penetration[i], s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i], d2, angle,
+                  axis.x(), axis.y(), axis.z());
     out += line;
   }
   return out;
@@ -162,6 +187,12 @@ std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   scalars("penetration_ratio", s.penetration_ratio);
   scalars("max_shear_strain", s.max_shear_strain);
   scalars("equivalent_strain", s.equivalent_strain);
+  if (s.d2min.size() == n) scalars("d2min", s.d2min);
+  if (s.misorientation.size() == n && s.misorientation_axis.size() == n) {
+    scalars("misorientation", s.misorientation);
+    out += "VECTORS misorientation_axis double\n";
+    for (const Vec3& a : s.misorientation_axis) append(out, "%.6g %.6g %.6g\n", a.x(), a.y(), a.z());
+  }
   out += "FIELD orientation 1\nquaternion_wxyz 4 " + std::to_string(n) + " double\n";
   char buf[128];
   for (const Quat& q : s.orientation)

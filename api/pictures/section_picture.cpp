@@ -27,6 +27,8 @@ FieldInfo info(Field f) {
     case Field::gamma_max: return {"gamma_max", "max shear strain γmax (-)", 1};
     case Field::equivalent_strain: return {"equivalent_strain", "equivalent strain (-)", 1};
     case Field::displacement: return {"displacement", "displacement (mm)", 1e3};
+    case Field::d2min: return {"d2min", "non-affine D²min / l² (-)", 1};
+    case Field::misorientation: return {"misorientation", "misorientation (°)", 1};
   }
   return {"", "", 1};
 }
@@ -37,6 +39,9 @@ double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
     case Field::gamma_max: return s.max_shear_strain[i];
     case Field::equivalent_strain: return s.equivalent_strain[i];
     case Field::displacement: return s.displacement[i].norm();
+    // Over the squared neighbour distance l (taken where the picture starts): comparable across grain sizes.
+    case Field::d2min: return i < s.d2min.size() ? s.d2min[i] : std::nan("");
+    case Field::misorientation: return i < s.misorientation.size() ? s.misorientation[i] : std::nan("");
   }
   return 0;
 }
@@ -133,7 +138,8 @@ std::vector<std::array<double, 2>> cross_section(const std::vector<std::array<Ve
 }  // namespace
 
 std::optional<Field> parse_field(const std::string& name) {
-  for (Field f : {Field::severity, Field::gamma_max, Field::equivalent_strain, Field::displacement})
+  for (Field f : {Field::severity, Field::gamma_max, Field::equivalent_strain, Field::displacement, Field::d2min,
+                 Field::misorientation})
     if (name == info(f).name) return f;
   return std::nullopt;
 }
@@ -146,7 +152,12 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   if (chosen < 0 || chosen >= std::max(1, layers.count))
     throw std::out_of_range("'slice' must be a " + s.layer_planes + " layer from 0 (the front face) to " +
                             std::to_string(std::max(0, layers.count - 1)) + ", got " + std::to_string(chosen));
-  const FieldInfo fi = info(field);
+  FieldInfo fi = info(field);
+  if (field == Field::d2min) fi.scale = 1 / (layers.neighbour * layers.neighbour);
+  if ((field == Field::d2min && s.d2min.size() != s.id.size()) ||
+      (field == Field::misorientation && s.misorientation.size() != s.id.size()))
+    throw std::invalid_argument(std::string("this snapshot has no '") + fi.name +
+                                "': it was stored before that field existed");
   // The paper's grains keep the cell measured from the neighbour distance, as their pictures always had it.
   const bool paper = s.grain_shape == Shape::rhombic_dodecahedron;
   const double a = paper || !(s.grain_size > 0) ? layers.neighbour * std::sqrt(2.0) : s.grain_size;

@@ -15,14 +15,16 @@
 
 namespace granulab::pictures {
 
-enum class Field { severity, gamma_max, equivalent_strain, displacement };
+enum class Field { severity, gamma_max, equivalent_strain, displacement, d2min, misorientation };
 
-/// "severity", "gamma_max", "equivalent_strain" or "displacement"; nullopt for anything else.
+/// "severity", "gamma_max", "equivalent_strain", "displacement", "d2min" or "misorientation"; nullopt for anything
+/// else.
 std::optional<Field> parse_field(const std::string& name);
 /// The layers normal to y of the snapshot ({111} for the paper's crystal) (at the reference state), 0 = the front face (lowest y).
 int layer_count(const GrainSnapshot& s);
 /// The SVG document for `layer` (default: the middle layer, (layers - 1) / 2). Throws
-/// std::out_of_range naming the valid layers when `layer` is not one of them.
+/// std::out_of_range naming the valid layers when `layer` is not one of them, std::invalid_argument for a field
+/// the snapshot was stored without (d2min and misorientation of snapshots older than them).
 std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> layer, const std::string& title);
 
 }  // namespace granulab::pictures

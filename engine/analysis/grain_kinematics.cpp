@@ -31,6 +31,7 @@ std::vector<LocalStrain> local_strains(const std::vector<Vec3>& ref, const std::
     v[b] += d0 * d0.transpose(), w[b] += d * d0.transpose();  // (-d)(-d0)^T
   }
   std::vector<LocalStrain> out(n);
+  std::vector<Mat3> fit(n, Mat3::Identity());
   for (std::size_t i = 0; i < n; ++i) {
     if (v[i].isZero()) continue;
     // F v = w  ->  F = w v^+ (v symmetric); the pseudo-inverse handles planar neighbourhoods.
@@ -42,13 +43,31 @@ std::vector<LocalStrain> local_strains(const std::vector<Vec3>& ref, const std::
     const Mat3 v_plus = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
     // Directions no neighbour spans (a planar neighbourhood) are taken as undeformed, not collapsed.
     const Mat3 f = w[i] * v_plus + (Mat3::Identity() - v[i] * v_plus);
+    fit[i] = f;
     const Mat3 e = 0.5 * (f.transpose() * f - Mat3::Identity());
+    out[i].green_lagrange = e;
     const Vec3 principal = Eigen::SelfAdjointEigenSolver<Mat3>(e).eigenvalues();  // ascending
     const Mat3 dev = e - e.trace() / 3 * Mat3::Identity();
     out[i].max_shear = (principal[2] - principal[0]) / 2;
     out[i].equivalent = std::sqrt(2.0 / 3.0 * dev.squaredNorm());
   }
+  // The residual, pair by pair (not from the sums: for an affine motion it would be a difference of large terms).
+  for (const auto& [a, b] : pairs) {
+    const Vec3 d0 = ref[b] - ref[a], d = cur[b] - cur[a];
+    out[a].d2min += (d - fit[a] * d0).squaredNorm();
+    out[b].d2min += (d - fit[b] * d0).squaredNorm();  // |(-d) - F (-d0)|
+  }
   return out;
+}
+
+Misorientation misorientation(const Quat& reference, const Quat& current) {
+  Quat r = (current * reference.conjugate()).normalized();
+  if (r.w() < 0) r.coeffs() = -r.coeffs();  // the shorter way round: angle in [0, 180]
+  const double s = r.vec().norm();
+  Misorientation m;
+  m.angle = 2 * std::atan2(s, r.w()) * 180 / M_PI;
+  if (s > 0) m.axis = r.vec() / s;
+  return m;
 }
 
 std::vector<double> interface_sliding(const std::vector<Vec3>& ref_pos, const std::vector<Quat>& ref_q,

@@ -17,14 +17,25 @@ std::vector<BodyPair> neighbour_pairs(const std::vector<Vec3>& positions, double
 struct LocalStrain {
   double max_shear = 0;   ///< gamma_max = (e1 - e3)/2 of the Green-Lagrange strain E (tensor shear)
   double equivalent = 0;  ///< von Mises equivalent strain sqrt(2/3 dev(E):dev(E))
+  Mat3 green_lagrange = Mat3::Zero();  ///< E = (F^T F - I)/2 itself (-)
+  double d2min = 0;       ///< Falk & Langer's D^2_min: sum over the neighbours of |d - F d0|^2 (m^2), the non-affine part
 };
 
 /// The deformation gradient F that best maps each grain's reference neighbour vectors onto the current
-/// ones (least squares, as in Falk & Langer 1998), and the invariants of E = (F^T F - I)/2.
+/// ones (least squares, as in Falk & Langer 1998), E = (F^T F - I)/2 and its invariants, and the fit's residual
+/// D^2_min.
 /// Directions that a grain's neighbours do not span (a planar or linear neighbourhood) are taken as
 /// undeformed.
 std::vector<LocalStrain> local_strains(const std::vector<Vec3>& reference, const std::vector<Vec3>& current,
                                        const std::vector<BodyPair>& pairs);
+
+/// A grain's rotation since the reference: angle (degrees, in [0, 180]) and unit axis (lab frame; zero when the
+/// angle is), of q q_ref^-1.
+struct Misorientation {
+  double angle = 0;
+  Vec3 axis = Vec3::Zero();
+};
+Misorientation misorientation(const Quat& reference, const Quat& current);
 
 /// Sliding distance at each interface: the two grains' material points that coincided at the reference
 /// interface midpoint, their current separation projected on the interface plane as carried by the

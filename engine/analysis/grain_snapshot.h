@@ -31,6 +31,10 @@ struct GrainSnapshot {
   std::vector<double> penetration_ratio;  ///< Delta / mean Delta over the grains (-)
   std::vector<double> max_shear_strain;   ///< gamma_max = (e1 - e3)/2 of the local Green-Lagrange strain (-)
   std::vector<double> equivalent_strain;  ///< von Mises equivalent of the local Green-Lagrange strain (-)
+  // Snapshots stored before these existed have them empty.
+  std::vector<double> d2min;              ///< Falk & Langer's D^2_min of that fit: its non-affine residual (m^2)
+  std::vector<double> misorientation;     ///< rotation since the reference state (degrees)
+  std::vector<Vec3> misorientation_axis;  ///< its unit axis, lab frame (zero for no rotation)
   // Per interface between neighbouring grains (in the reference state).
   std::vector<GrainPair> interfaces;
   std::vector<double> sliding;  ///< relative tangential displacement across the interface (m)

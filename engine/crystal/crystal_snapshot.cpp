@@ -35,6 +35,12 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
   for (const LocalStrain& e : local_strains(ref.position, b.position, ref.interfaces)) {
     s.max_shear_strain.push_back(e.max_shear);
     s.equivalent_strain.push_back(e.equivalent);
+    s.d2min.push_back(e.d2min);
+  }
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const Misorientation m = misorientation(ref.orientation[i], b.orientation[i]);
+    s.misorientation.push_back(m.angle);
+    s.misorientation_axis.push_back(m.axis);
   }
   for (const auto& [p, q] : ref.interfaces) s.interfaces.push_back({ids[p], ids[q]});
   s.sliding = interface_sliding(ref.position, ref.orientation, b.position, b.orientation, ref.interfaces);

@@ -61,7 +61,8 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
         if (!field)
           return error(
               res, 400, "invalid_value",
-              "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, got '" + field_name + "'",
+              "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, d2min, misorientation, got '" +
+                  field_name + "'",
               "field");
         std::optional<int> layer;
         if (req.has_param("slice")) {
@@ -86,6 +87,8 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
                           "image/svg+xml");
         } catch (const std::out_of_range& e) {
           error(res, 400, "out_of_range", e.what(), "slice");
+        } catch (const std::invalid_argument& e) {
+          error(res, 404, "not_found", e.what(), "field");
         }
       });
 }

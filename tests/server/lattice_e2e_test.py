@@ -141,6 +141,28 @@ class LatticeEndToEndTest(unittest.TestCase):
             captions = " ".join(t.text or "" for t in root.iter(SVG + "text"))
             self.assertIn(planes, captions, name)
 
+    def test_snapshots_carry_the_non_affine_residual_and_the_misorientation(self):
+        for name in CASES:
+            snap = self.client.snapshot(self.jobs[name], 1)
+            grains = snap["grains"]
+            n = len(grains["id"])
+            for key in ("d2min", "misorientation", "misorientation_axis_x", "misorientation_axis_y",
+                        "misorientation_axis_z"):
+                self.assertEqual(len(grains[key]), n, (name, key))
+            self.assertTrue(all(d >= 0 for d in grains["d2min"]), name)
+            self.assertTrue(all(0 <= m <= 180 for m in grains["misorientation"]), name)
+            self.assertGreater(max(grains["misorientation"]), 0, name)  # a compressed crystal's grains turn a little
+            for i in range(n):
+                axis = [grains["misorientation_axis_" + c][i] for c in "xyz"]
+                length = sum(a * a for a in axis) ** 0.5
+                self.assertTrue(abs(length - 1) < 1e-6 or (length == 0 and grains["misorientation"][i] == 0), (name, i))
+            for field in ("d2min", "misorientation"):
+                root = ET.fromstring(self.get("/v1/jobs/%d/snapshots/1.svg?field=%s" % (self.jobs[name], field)))
+                captions = " ".join(t.text or "" for t in root.iter(SVG + "text"))
+                self.assertIn("D²min" if field == "d2min" else "misorientation", captions, (name, field))
+            dump = self.get("/v1/jobs/%d/snapshots/1?format=dump" % self.jobs[name]).decode()
+            self.assertIn("d2min misorientation misorientation_axis_x", dump)
+
     def test_dry_runs_carry_the_rigid_grain_yield_estimate(self):
         f = 0.35  # the material's default friction
         cubes = self.estimates["sc"]["yield_estimate"]
