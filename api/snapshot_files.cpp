@@ -1,5 +1,9 @@
 #include "api/snapshot_files.h"
 
+#include "api/summary_json.h"
+#include "engine/analysis/slip_bands.h"
+#include "engine/crystal/crystal_lattice.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -24,6 +28,13 @@ std::vector<double> column(std::size_t n, F f) {
 }
 
 }  // namespace
+
+nlohmann::json slip_bands_json(const std::vector<SlipBand>& bands, LatticeType lattice) {
+  // The engine names the fields (write_slip_bands), as it does in job summaries.
+  JsonSummaryWriter w;
+  write_slip_bands(w, bands, lattice);
+  return w.document()["slip_bands"];
+}
 
 nlohmann::json snapshot_json(const GrainSnapshot& s) {
   const std::size_t n = s.id.size();
@@ -57,11 +68,15 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
   interfaces["b"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].b)); });
   interfaces["sliding"] = s.sliding;
   nlohmann::json out = {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
-  if (s.grain_size > 0)
+  if (s.grain_size > 0) {
+    const Quat& q = s.crystal_orientation;
     out["crystal"] = {{"grain", to_string(s.grain_shape)},
                       {"size", s.grain_size},
                       {"layer_spacing", s.layer_spacing},
-                      {"layer_planes", s.layer_planes}};
+                      {"layer_planes", s.layer_planes},
+                      {"orientation", {q.w(), q.x(), q.y(), q.z()}}};
+  }
+  out["slip_bands"] = slip_bands_json(s.slip_bands, snapshot_lattice(s));
   return out;
 }
 
@@ -99,6 +114,25 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
     if (c.contains("layer_spacing") && c["layer_spacing"].is_number()) s.layer_spacing = c["layer_spacing"].get<double>();
     if (c.contains("layer_planes") && c["layer_planes"].is_string()) s.layer_planes = c["layer_planes"].get<std::string>();
   }
+  // The crystal's frame; snapshots stored before slip bands had none: the paper's crystal.
+  const nlohmann::json* q = j.contains("crystal") && j["crystal"].is_object() && j["crystal"].contains("orientation")
+                                ? &j["crystal"]["orientation"]
+                                : nullptr;
+  if (q && q->is_array() && q->size() == 4 && std::all_of(q->begin(), q->end(), [](const auto& x) { return x.is_number(); }))
+    s.crystal_orientation = Quat((*q)[0].get<double>(), (*q)[1].get<double>(), (*q)[2].get<double>(), (*q)[3].get<double>());
+  else if (s.grain_shape == Shape::rhombic_dodecahedron)
+    s.crystal_orientation = off_axis_orientation();
+  if (j.contains("slip_bands") && j["slip_bands"].is_array())
+    for (const auto& b : j["slip_bands"]) {
+      if (!b.is_object()) continue;
+      const auto number = [&](const char* key) { return b.contains(key) && b[key].is_number() ? b[key].get<double>() : 0.0; };
+      const auto triple = [&](const char* key, auto* into) {
+        if (b.contains(key) && b[key].is_array() && b[key].size() == 3)
+          for (int k = 0; k < 3; ++k)
+            if (b[key][k].is_number()) into[k] = b[key][k].get<std::remove_pointer_t<decltype(into)>>();
+      };
+      s.slip_bands.push_back(read_slip_band(number, triple));
+    }
   for (double id : numbers(g, "id", n)) s.id.push_back(GrainId(std::uint32_t(id)));
   const auto x = numbers(g, "x", n), y = numbers(g, "y", n), z = numbers(g, "z", n);
   const auto dx = numbers(g, "dx", n), dy = numbers(g, "dy", n), dz = numbers(g, "dz", n);

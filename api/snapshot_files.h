@@ -9,10 +9,16 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/analysis/grain_snapshot.h"
+#include "engine/crystal/lattice_type.h"
 
 namespace granulab::api {
 
 nlohmann::json snapshot_json(const GrainSnapshot& s);
+/// A snapshot's slip bands (slip_bands.h) as JSON, as snapshots and job summaries carry them: `plane` "(h k l)"
+/// (HCP "(h k i l)") and `plane_indices`, `angle_to_plane` (deg), `normal` (lab), `offset` (m), `slip` (m),
+/// `direction` "[u v w]" and `direction_indices`, `direction_angle` (deg), `dilation_angle` (deg), `extent` (m),
+/// `interfaces`.
+nlohmann::json slip_bands_json(const std::vector<SlipBand>& bands, LatticeType lattice);
 /// The inverse of snapshot_json (what the server stored back into a snapshot, for the other formats and
 /// pictures); throws std::invalid_argument naming what is missing or inconsistent.
 GrainSnapshot snapshot_from_json(const nlohmann::json& j);

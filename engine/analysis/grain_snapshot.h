@@ -13,6 +13,22 @@
 
 namespace granulab {
 
+/// A band of sliding interfaces on one plane (slip_bands.h): where a snapshot's slip concentrates, named by the
+/// lattice plane nearest to the plane fitted through it.
+struct SlipBand {
+  int plane[3] = {0, 0, 0};     ///< Miller indices of the nearest lattice plane, crystal frame (HCP: of a1, a2, c)
+  double angle_to_plane = 0;    ///< between the fitted plane and that lattice plane (degrees)
+  double normal[3] = {0, 0, 0}; ///< the fitted plane's unit normal, lab frame
+  double offset = 0;            ///< the fitted plane: normal . x = offset, reference positions (m)
+  double slip = 0;              ///< the mean in-plane displacement of the side the normal points to over the other (m)
+  int direction[3] = {0, 0, 0}; ///< the lattice direction nearest to that slip, indices up to 3 (all zero: none)
+  double direction_angle = 0;   ///< between the slip and that direction (degrees)
+  double dilation_angle = 0;    ///< atan of the mean normal opening over the slip (degrees)
+  double extent = 0;            ///< the largest distance between two of its interfaces' midpoints (m)
+  std::uint32_t interfaces = 0; ///< sliding interfaces in it (-)
+  std::uint32_t snapshot = 0;   ///< index of its snapshot, where a run keeps the bands of all of them
+};
+
 struct GrainSnapshot {
   double strain = 0;       ///< the experiment's strain when taken: axial, or a shear's shear strain (-)
   std::uint64_t step = 0;  ///< time steps since the world was built (-)
@@ -35,6 +51,10 @@ struct GrainSnapshot {
   std::vector<double> d2min;              ///< Falk & Langer's D^2_min of that fit: its non-affine residual (m^2)
   std::vector<double> misorientation;     ///< rotation since the reference state (degrees)
   std::vector<Vec3> misorientation_axis;  ///< its unit axis, lab frame (zero for no rotation)
+  /// The crystal's axes -> lab (slip bands name their planes in it); the paper's off-axis frame for snapshots stored
+  /// before lattices were a choice.
+  Quat crystal_orientation = Quat::Identity();
+  std::vector<SlipBand> slip_bands;  ///< found at the snapshot (slip_bands.h); empty when none, or in older snapshots
   // Per interface between neighbouring grains (in the reference state).
   std::vector<GrainPair> interfaces;
   std::vector<double> sliding;  ///< relative tangential displacement across the interface (m)

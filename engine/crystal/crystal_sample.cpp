@@ -102,13 +102,15 @@ double crystal_wave_speed(const CrystalSampleParams& p) {
   return std::sqrt(p.material.youngs_modulus / (p.material.density * p.mass_scaling));
 }
 
-double CrystalSample::face_neighbour_distance() const {
-  if (params_.lattice == LatticeType::fcc)  // the paper's crystal, as its interfaces were always found
-    return params_.grain.size / std::sqrt(2.0);
+double face_neighbour_distance(const CrystalSampleParams& p, const GrainTemplate& grain) {
+  if (p.lattice == LatticeType::fcc)  // the paper's crystal, as its interfaces were always found
+    return p.grain.size / std::sqrt(2.0);
   double h = 0;
-  for (const Face& f : grain_.solid().faces()) h = std::max(h, f.distance);
+  for (const Face& f : grain.solid().faces()) h = std::max(h, f.distance);
   return 2 * h;
 }
+
+double CrystalSample::face_neighbour_distance() const { return granulab::face_neighbour_distance(params_, grain_); }
 
 double crystal_skin_factor(double overlap) {
   const double neighbour_gap = std::sqrt(1 + (1 - overlap) * (1 - overlap)) - 1;

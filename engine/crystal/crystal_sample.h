@@ -81,6 +81,9 @@ double quasi_static_rate_number(double confining_pressure, double youngs_modulus
 /// c = sqrt(E / (rho x mass scaling)) (m/s): the grain material's bar wave speed, what the crystal loadings' rate
 /// numbers R = v / c and their ramps (in transits L / c) are measured in.
 double crystal_wave_speed(const CrystalSampleParams& p);
+/// The distance between neighbouring grains' centres across their farthest faces, as built (m):
+/// CrystalSample::face_neighbour_distance() without a sample.
+double face_neighbour_distance(const CrystalSampleParams& p, const GrainTemplate& grain);
 /// The lattice the sample is built on (its sites, knock-outs done), without the world: cheap.
 CrystalLattice sample_lattice(const CrystalSampleParams& p);
 /// dt (s) of the sample's world; with imperfect grains, of the smallest one they may draw (min_scale_bound).

@@ -1,6 +1,7 @@
 #include "engine/crystal/crystal_snapshot.h"
 
 #include "engine/analysis/grain_kinematics.h"
+#include "engine/analysis/slip_bands.h"
 
 namespace granulab {
 
@@ -44,17 +45,19 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
   }
   for (const auto& [p, q] : ref.interfaces) s.interfaces.push_back({ids[p], ids[q]});
   s.sliding = interface_sliding(ref.position, ref.orientation, b.position, b.orientation, ref.interfaces);
+  s.crystal_orientation = sample.lattice().orientation;
+  s.slip_bands = find_slip_bands(s, sample.params().lattice);
   return s;
 }
 
 void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s) {
   a.value(std::uint64_t(s.size()));
-  for (const GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
+  for (const GrainSnapshot& g : s) a.value(g.strain), a.value(g.step), a.values(g.slip_bands);
 }
 
 void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s) {
   s.resize(a.value<std::uint64_t>());
-  for (GrainSnapshot& g : s) a.value(g.strain), a.value(g.step);
+  for (GrainSnapshot& g : s) a.value(g.strain), a.value(g.step), a.values(g.slip_bands);
 }
 
 }  // namespace granulab

@@ -23,7 +23,8 @@ struct CrystalReference {
 /// The snapshot of the sample as it is, labelled with `strain` (the experiment's own: axial or shear).
 GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReference& reference, double strain);
 
-/// Checkpoints keep the snapshots taken as (strain, step) only: the summary lists no more, and the sink has the rest.
+/// Checkpoints keep the snapshots taken as (strain, step, slip bands) only: the summary lists no more, and the sink
+/// has the rest.
 void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s);
 void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s);
 

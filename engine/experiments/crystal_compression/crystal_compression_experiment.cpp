@@ -1,5 +1,7 @@
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 
+#include "engine/analysis/slip_bands.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -52,6 +54,7 @@ struct CrystalSummary : ExperimentResult {
       w.count("index", k);
       w.number("strain", r.snapshots[k].strain, "-");
       w.count("step", r.snapshots[k].step);
+      write_slip_bands(w, r.snapshots[k].slip_bands, params.lattice);
       w.end_group();
     }
     w.end_list();

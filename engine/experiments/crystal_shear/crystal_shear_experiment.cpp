@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "engine/analysis/slip_bands.h"
 #include "engine/crystal/sample_parameters.h"
 
 namespace granulab {
@@ -79,6 +80,7 @@ struct ShearSummary : ExperimentResult {
       w.count("index", k);
       w.number("strain", r.snapshots[k].strain, "-");
       w.count("step", r.snapshots[k].step);
+      write_slip_bands(w, r.snapshots[k].slip_bands, params.lattice);
       if (k < r.sliding_planes.size() && r.sliding_planes[k].gap >= 0) {
         const SlidingPlane& s = r.sliding_planes[k];
         w.begin_group("sliding_plane");

@@ -68,10 +68,12 @@ bool relaxed_pass(int pass) { return pass >= 2; }
 bool measured_pass(int pass) { return pass % 2 == 1; }
 
 double amplitude_of(const StiffnessParams& p) {
-  return p.strain_amplitude > 0 ? p.strain_amplitude : hydrostatic_prestrain(p) / 4;
+  return p.strain_amplitude > 0 ? p.strain_amplitude : default_strain_amplitude(p);
 }
 
 }  // namespace
+
+double default_strain_amplitude(const CrystalSampleParams& p) { return std::min(1e-3, hydrostatic_prestrain(p) / 4); }
 
 Voigt stiffness_of(const std::vector<StiffnessRow>& rows, int set, double amplitude) {
   const auto by_state = rows_of(rows, set);
@@ -128,6 +130,36 @@ Voigt affine_prediction(const CrystalSampleParams& p) {
   return affine_face_spring_stiffness(terms, cell.site_volume() * double(cell.basis.size()));
 }
 
+std::vector<std::uint8_t> interior_sites(const CrystalSampleParams& p, const CrystalLattice& lattice) {
+  // From the lattice as built, so that an imperfect grain that lost a contact is still interior; through a grid of
+  // cells one cut-off wide.
+  GrainGeometry g = p.grain;
+  g.shape = grain_shape(p.lattice);
+  const GrainTemplate grain(g);
+  const std::vector<LatticeSite>& sites = lattice.sites;
+  const double cut = 1.02 * face_neighbour_distance(p, grain);
+  const std::size_t faces = grain.solid().faces().size();
+  std::map<std::array<long, 3>, std::vector<std::size_t>> cells;
+  const auto cell_of = [&](const Vec3& x) {
+    return std::array<long, 3>{long(std::floor(x.x() / cut)), long(std::floor(x.y() / cut)), long(std::floor(x.z() / cut))};
+  };
+  for (std::size_t k = 0; k < sites.size(); ++k) cells[cell_of(sites[k].position)].push_back(k);
+  std::vector<std::uint8_t> interior(sites.size(), 0);
+  for (std::size_t k = 0; k < sites.size(); ++k) {
+    const std::array<long, 3> c = cell_of(sites[k].position);
+    std::size_t neighbours = 0;
+    for (long i = -1; i <= 1; ++i)
+      for (long j = -1; j <= 1; ++j)
+        for (long l = -1; l <= 1; ++l) {
+          const auto it = cells.find({c[0] + i, c[1] + j, c[2] + l});
+          if (it == cells.end()) continue;
+          for (std::size_t m : it->second) neighbours += m != k && (sites[m].position - sites[k].position).norm() < cut;
+        }
+    interior[k] = neighbours >= faces;
+  }
+  return interior;
+}
+
 StiffnessSchedule stiffness_schedule(const StiffnessParams& p) {
   StiffnessSchedule s;
   s.size = sample_lattice(p).extent.maxCoeff();
@@ -135,10 +167,12 @@ StiffnessSchedule stiffness_schedule(const StiffnessParams& p) {
   s.ramp_steps = std::max(1.0, std::ceil(p.ramp_transits * s.transit_steps));
   s.check_steps = std::max(1.0, std::ceil(4 * s.transit_steps));
   const double affine = 2 * kStiffnessStates * double(p.affine_ramp_steps + 1);  // conditioning and affine
-  const double hold = (p.relax_checks + 1) * s.check_steps;
+  // A hold ends at a check: when it has met the tolerance (relax_checks + 1 checks at least), or at the first check
+  // at or past max_relax_transits.
+  const double hold_max = s.check_steps * std::max(1.0, std::ceil(p.max_relax_transits * s.transit_steps / s.check_steps));
+  const double hold = std::min((p.relax_checks + 1) * s.check_steps, hold_max);
   s.expected_steps = affine + 2 * (hold + kStiffnessStates * (s.ramp_steps + hold));
-  s.max_steps = affine + 2 * ((kStiffnessStates + 1) * std::ceil(p.max_relax_transits * s.transit_steps) +
-                              kStiffnessStates * s.ramp_steps);
+  s.max_steps = affine + 2 * (kStiffnessStates + 1) * hold_max + 2 * kStiffnessStates * s.ramp_steps;
   return s;
 }
 
@@ -185,32 +219,9 @@ void CrystalStiffness::confine_and_begin(Run& run) {
   walls[sample_.top_wall()].point += 2 * params_.grain.size * Vec3::UnitZ();
   walls[sample_.bottom_wall()].point -= 2 * params_.grain.size * Vec3::UnitZ();
   for (Wall& w : walls) w.velocity.setZero();
-  // The interior: the sites with a neighbour across every face (from the lattice as built, so that an imperfect
-  // grain that lost a contact is still interior), found through a grid of cells one cut-off wide.
   const std::vector<LatticeSite>& sites = sample_.lattice().sites;
-  const double cut = 1.02 * sample_.face_neighbour_distance();
-  const std::size_t faces = sample_.grain().solid().faces().size();
-  std::map<std::array<long, 3>, std::vector<std::size_t>> cells;
-  const auto cell_of = [&](const Vec3& x) {
-    return std::array<long, 3>{long(std::floor(x.x() / cut)), long(std::floor(x.y() / cut)), long(std::floor(x.z() / cut))};
-  };
-  for (std::size_t k = 0; k < sites.size(); ++k) cells[cell_of(sites[k].position)].push_back(k);
-  interior_.assign(sites.size(), 0);
-  std::size_t inside = 0;
-  for (std::size_t k = 0; k < sites.size(); ++k) {
-    const std::array<long, 3> c = cell_of(sites[k].position);
-    std::size_t neighbours = 0;
-    for (long i = -1; i <= 1; ++i)
-      for (long j = -1; j <= 1; ++j)
-        for (long l = -1; l <= 1; ++l) {
-          const auto it = cells.find({c[0] + i, c[1] + j, c[2] + l});
-          if (it == cells.end()) continue;
-          for (std::size_t m : it->second)
-            neighbours += m != k && (sites[m].position - sites[k].position).norm() < cut;
-        }
-    interior_[k] = neighbours >= faces;
-    inside += interior_[k];
-  }
+  interior_ = interior_sites(params_, sample_.lattice());
+  const std::size_t inside = std::size_t(std::count(interior_.begin(), interior_.end(), 1));
   if (inside == 0)
     throw std::invalid_argument("the sample has no grain with a neighbour across every face: make crystal.grains_x, "
                                 "crystal.rows_z and crystal.layers_y larger");

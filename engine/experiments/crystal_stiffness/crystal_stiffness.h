@@ -67,6 +67,12 @@ struct StiffnessResult {
   std::uint64_t stiffness_steps = 0;
 };
 
+/// delta's default (-): eps0 / 4, at most 1e-3.
+double default_strain_amplitude(const CrystalSampleParams& p);
+/// Per site of `lattice` (the sample's, as built), 1 when it has a neighbour across every face of its grain: the
+/// interior, whose stress is measured and which relaxes.
+std::vector<std::uint8_t> interior_sites(const CrystalSampleParams& p, const CrystalLattice& lattice);
+
 /// The tensors of a run's rows (lab frame, Pa): column k from the states k to +delta and -delta of `set`.
 Voigt stiffness_of(const std::vector<StiffnessRow>& rows, int set, double amplitude);
 /// |sigma(+) + sigma(-) - 2 sigma(0)| / |sigma(+) - sigma(-)|, the largest over the components of `set` (-): 0 when

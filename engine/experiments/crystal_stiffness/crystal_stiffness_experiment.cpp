@@ -1,5 +1,6 @@
 #include "engine/experiments/crystal_stiffness/crystal_stiffness_experiment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -129,20 +130,31 @@ void CrystalStiffnessExperiment::parameters(ParameterVisitor& v) {
   StiffnessParams& p = params;
   visit_crystal_sample(v, p);
   v.section("loading");
-  if (!(p.strain_amplitude > 0)) p.strain_amplitude = hydrostatic_prestrain(p) / 4;
+  if (!(p.strain_amplitude > 0)) p.strain_amplitude = default_strain_amplitude(p);
   v.number("strain_amplitude", p.strain_amplitude, {0, 1e-3, true}, "-",
            "delta: each strain component is imposed at +delta and -delta (default: eps0 / 4, a quarter of the "
-           "confinement's pre-strain, so that no face opens or slides)");
+           "confinement's pre-strain, so that no face opens or slides; at most 1e-3)");
   v.number("ramp_transits", p.ramp_transits, {0, 1000, true}, "-",
            "each relaxed state is reached over this many wave transits L / c of the sample's largest size");
   v.integer("affine_ramp_steps", p.affine_ramp_steps, 1, 100000,
             "each affine state is reached over this many steps (every grain prescribed: no inertia)");
   v.number("relax_tolerance", p.relax_tolerance, {0, 1, true}, "-",
-           "a relaxed state is measured once the interior's stress changes by at most this times C11 delta between "
-           "checks four transits apart");
+           "a relaxed state is measured once the interior's stress changes by at most this times the largest affine "
+           "response C_kk delta (lab frame) between checks four transits apart");
   v.integer("relax_checks", p.relax_checks, 1, 1000, "consecutive checks meeting loading.relax_tolerance");
   v.number("max_relax_transits", p.max_relax_transits, {1, 1e5}, "-",
-           "a relaxed state's hold is cut after this many transits, reported as not converged");
+           "a relaxed state's hold is cut at the first check after this many transits, reported as not converged");
+  // The interior must not be empty: found from the lattice now rather than after a confinement.
+  std::size_t interior = 1;
+  try {
+    const std::vector<std::uint8_t> inside = interior_sites(p, sample_lattice(p));
+    interior = std::size_t(std::count(inside.begin(), inside.end(), 1));
+  } catch (const std::exception&) {
+    // a sample that cannot be cut: visit_crystal_sample named its field
+  }
+  v.require(interior > 0, "crystal.grains_x",
+            "the box 'crystal.grains_x' x 'crystal.layers_y' x 'crystal.rows_z' has no grain with a neighbour across "
+            "every face: crystal_stiffness measures the stress of such interior grains; make the box larger");
 }
 
 Headline CrystalStiffnessExperiment::headline() const {
