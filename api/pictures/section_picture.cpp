@@ -9,6 +9,7 @@
 #include "api/pictures/colour_map.h"
 #include "api/snapshot_files.h"
 #include "api/pictures/svg_text.h"
+#include "engine/analysis/slip_bands.h"
 #include "engine/geometry/polyhedron.h"
 
 namespace granulab::pictures {
@@ -238,6 +239,35 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
     svg += "<line x1=\"" + num(X(mx - h * bz), 6) + "\" y1=\"" + num(Z(mz + h * bx), 6) + "\" x2=\"" +
            num(X(mx + h * bz), 6) + "\" y2=\"" + num(Z(mz - h * bx), 6) + "\"/>\n";
     ++sliding;
+  }
+  svg += "</g>\n";
+
+  // The snapshot's slip bands (slip_bands.h) where they cut this layer: the trace of each fitted plane on the layer's
+  // mid-plane (reference positions), dashed, with its lattice plane's indices. A band nearly parallel to the layer
+  // has no trace here.
+  double layer_y = 0;
+  for (std::size_t i : grains) layer_y += s.position[i].y() - s.displacement[i].y();
+  layer_y = grains.empty() ? 0 : layer_y / double(grains.size());
+  svg += "<g class=\"slip-bands\" stroke=\"#d62728\" stroke-width=\"1.8\" stroke-dasharray=\"7,4\" fill=\"#d62728\">\n";
+  for (const SlipBand& band : s.slip_bands) {
+    const double nx = band.normal[0], ny = band.normal[1], nz = band.normal[2], in = std::hypot(nx, nz);
+    if (in < 0.2) continue;
+    const double c = band.offset - ny * layer_y;
+    const double px = c * nx / (in * in), pz = c * nz / (in * in), dx = -nz / in, dz = nx / in;
+    double t0 = -1e300, t1 = 1e300;
+    for (const auto& [p, d, lo_edge, hi_edge] : {std::array<double, 4>{px, dx, x0, x1}, std::array<double, 4>{pz, dz, z0, z1}}) {
+      if (std::abs(d) < 1e-12) {
+        if (p < lo_edge || p > hi_edge) t0 = 1, t1 = 0;
+        continue;
+      }
+      const double a = (lo_edge - p) / d, b = (hi_edge - p) / d;
+      t0 = std::max(t0, std::min(a, b)), t1 = std::min(t1, std::max(a, b));
+    }
+    if (!(t1 > t0)) continue;
+    svg += "<line class=\"slip-band\" x1=\"" + num(X(px + t0 * dx), 6) + "\" y1=\"" + num(Z(pz + t0 * dz), 6) +
+           "\" x2=\"" + num(X(px + t1 * dx), 6) + "\" y2=\"" + num(Z(pz + t1 * dz), 6) + "\"/>\n";
+    svg += "<text stroke=\"none\" x=\"" + num(X(px + t1 * dx) + 4, 6) + "\" y=\"" + num(Z(pz + t1 * dz) - 4, 6) + "\">" +
+           xml_escape(band_plane_text(band, snapshot_lattice(s))) + "</text>\n";
   }
   svg += "</g>\n";
 

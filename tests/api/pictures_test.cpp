@@ -163,6 +163,28 @@ TEST(SectionPicture, OnlyInterfacesOfTheLayerSlidingOverTwiceTheMeanAreDrawn) {
   EXPECT_EQ(lines(1), 0u);
 }
 
+// A slip band (slip_bands.h) is drawn where its plane cuts the layer, labelled with its indices; a band parallel to
+// the layer has no trace there. A field the snapshot predates (d2min, misorientation) is refused, not drawn as zero.
+TEST(SectionPicture, SlipBandsAreDrawnAsTheirTracesOnTheLayer) {
+  GrainSnapshot s = reference_crystal();
+  SlipBand inclined;
+  inclined.plane[0] = inclined.plane[1] = inclined.plane[2] = 1;
+  inclined.normal[0] = std::sqrt(0.5), inclined.normal[2] = std::sqrt(0.5);
+  inclined.offset = 0;  // through the sample centre
+  SlipBand parallel;
+  parallel.normal[1] = 1;
+  s.slip_bands = {inclined, parallel};
+  const std::string svg = section_svg(s, Field::severity, 1, "t");
+  EXPECT_EQ(count(svg, "<line class=\"slip-band\""), 1u);
+  EXPECT_NE(svg.find(">(1 1 1)</text>"), std::string::npos);
+  s.slip_bands.clear();
+  EXPECT_EQ(count(section_svg(s, Field::severity, 1, "t"), "<line class=\"slip-band\""), 0u);
+  EXPECT_THROW(section_svg(s, Field::d2min, 1, "t"), std::invalid_argument);
+  EXPECT_THROW(section_svg(s, Field::misorientation, 1, "t"), std::invalid_argument);
+  s.d2min.assign(s.id.size(), 1e-10);
+  EXPECT_NE(section_svg(s, Field::d2min, 1, "t").find("D²min"), std::string::npos);
+}
+
 TEST(SectionPicture, AWideFlatLayerStillHasItsColourBarAndALongTitleIsCut) {
   const GrainSnapshot s = reference_crystal(60, 1, 3);
   ASSERT_EQ(layer_count(s), 3);
@@ -261,6 +283,25 @@ TEST(SnapshotFiles, JsonRoundTripAndTheDumpsRadiusIsHalfTheNeighbourDistance) {
   nlohmann::json short_one = api::snapshot_json(s);
   short_one["grains"]["qz"].erase(0);
   EXPECT_THROW(api::snapshot_from_json(short_one), std::invalid_argument);
+  // The fields of issue 28 survive it too: D^2_min, the misorientation, the crystal's frame and the slip bands.
+  s.grain_size = kSize;
+  s.crystal_orientation = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
+  s.d2min.assign(s.id.size(), 2e-11);
+  s.misorientation.assign(s.id.size(), 0.5);
+  s.misorientation_axis.assign(s.id.size(), Vec3(0, 0.6, 0.8));
+  SlipBand band;
+  band.plane[0] = -2, band.plane[1] = 1, band.plane[2] = 1;
+  band.slip = 3e-4, band.dilation_angle = 12, band.interfaces = 40, band.normal[2] = 1;
+  band.direction[0] = 1, band.direction[1] = 1, band.direction[2] = 1;
+  s.slip_bands = {band};
+  const GrainSnapshot t = api::snapshot_from_json(api::snapshot_json(s));
+  EXPECT_EQ(api::snapshot_json(t), api::snapshot_json(s));
+  ASSERT_EQ(t.slip_bands.size(), 1u);
+  EXPECT_EQ(t.slip_bands[0].plane[0], -2);
+  EXPECT_EQ(t.slip_bands[0].interfaces, 40u);
+  EXPECT_NEAR(t.crystal_orientation.angularDistance(s.crystal_orientation), 0, 1e-12);
+  EXPECT_EQ(api::snapshot_json(s)["slip_bands"][0]["plane"], "(-2 1 1)");
+  EXPECT_NE(api::snapshot_lammps_dump(t).find(" d2min misorientation "), std::string::npos);
 }
 
 }  // namespace
