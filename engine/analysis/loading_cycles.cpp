@@ -48,6 +48,7 @@ std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, cons
     const CurveSegment& up = segments[l];
     LoadingCycle c;
     c.unloading_segment = u;
+    c.first_row = down.first_row, c.last_row = down.last_row;
     c.peak_strain = strain[down.first_row], c.peak_deviator = deviator[down.first_row];
     c.residual_strain = strain[down.last_row], c.residual_deviator = deviator[down.last_row];
     c.loading_slope =
@@ -78,6 +79,7 @@ std::vector<LoadingCycle> loading_cycles(const std::vector<double>& strain, cons
         const double s = e1 > e0 ? s0 + (s1 - s0) * (c.peak_strain - e0) / (e1 - e0) : s1;
         area += 0.5 * (s0 + s) * (c.peak_strain - e0);
         c.dissipated_energy = area;
+        c.last_row = k;
         break;
       }
     }

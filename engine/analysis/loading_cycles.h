@@ -18,6 +18,9 @@ struct CurveSegment {
 
 struct LoadingCycle {
   std::size_t unloading_segment = 0;  ///< index of the unloading segment (-)
+  /// The cycle's rows: from the peak (the unloading's first row) to the reloading's first row at or past
+  /// the peak strain; without one, to the unloading's last row.
+  std::size_t first_row = 0, last_row = 0;
   double peak_strain = 0;             ///< where the unloading began (-)
   double peak_deviator = 0;           ///< (Pa)
   double residual_strain = 0;         ///< where it ended (-)

@@ -25,6 +25,11 @@ struct ContactForce {
   Vec3 force;     ///< force on the first body (N)
   double normal;  ///< signed normal force magnitude, compressive positive (N)
   bool sliding;   ///< true when the Coulomb cap was active
+  double energy;    ///< elastic energy stored after the step, k_n delta^2 / 2 + k_t |xi|^2 / 2 (J)
+  double damping;   ///< energy the dashpots took in the step (J): dt (c_n v_n^2 + c_t |v_t|^2), the tangential
+                    ///< one only while sticking (sliding, the capped force is all friction's)
+  double friction;  ///< energy lost to sliding in the step (J): the Coulomb force times the slip, i.e. the part
+                    ///< of v_t dt the spring did not take (0 while sticking; 0 for f = 0)
 };
 
 /// Normal damping coefficient c_n = 2 zeta sqrt(k_n m_eff) (N s/m) of a pair with effective mass m_eff.
@@ -55,12 +60,21 @@ inline ContactForce contact_force(const ContactLaw& law, double c_n, const Vec3&
   const double cap = law.friction * std::abs(fn);
   const double ft2 = ft.squaredNorm();
   bool sliding = false;
+  double friction = 0;
   if (ft2 > cap * cap) {
     sliding = true;
-    ft *= cap / std::sqrt(ft2);  // ft2 > cap^2 >= 0
-    xi = law.tangential_stiffness > 0 ? Vec3(-(ft + c_t * v_t) / law.tangential_stiffness) : Vec3::Zero();
+    const double scale = cap / std::sqrt(ft2);  // ft2 > cap^2 >= 0
+    ft *= scale;
+    if (law.tangential_stiffness > 0) {
+      xi = -(ft + c_t * v_t) / law.tangential_stiffness;
+      friction = scale * (1 - scale) * ft2 / law.tangential_stiffness;  // cap x |xi_trial - xi|
+    } else {
+      xi = Vec3::Zero();
+    }
   }
-  return {fn * n + ft, fn, sliding};
+  const double energy = 0.5 * law.normal_stiffness * delta * delta + 0.5 * law.tangential_stiffness * xi.squaredNorm();
+  const double damping = dt * (c_n * vn * vn + (sliding ? 0.0 : c_t * v_t.squaredNorm()));
+  return {fn * n + ft, fn, sliding, energy, damping, friction};
 }
 
 /// The same with the effective mass m_eff (kg) instead of the damping coefficient.

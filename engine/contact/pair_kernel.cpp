@@ -58,7 +58,7 @@ inline __attribute__((always_inline)) Relative relative(const Frame& f, const Of
 }
 
 struct Contribution {
-  double fx, fy, fz, mx, my, mz, overlap, energy;
+  double fx, fy, fz, mx, my, mz, overlap, energy, damping, friction;
   std::uint32_t contact, slip;
 };
 
@@ -111,6 +111,10 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
   out.slip = touching && slip;
   out.overlap = touching ? delta : 0.0;
   out.energy = touching ? 0.5 * kn * delta * delta + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
+  // This step's losses (contact_law.h): the dashpots' work, the tangential one only while sticking, and
+  // on slip the Coulomb force times the slip, cap (1 - scale) |g| / k_t.
+  out.damping = touching ? dt * (cn * vn * vn + (slip ? 0.0 : ct * (tx * tx + ty * ty + tz * tz))) : 0.0;
+  out.friction = touching && slip ? scale * (1 - scale) * g2 * inv_kt : 0.0;
   return out;
 }
 
@@ -120,15 +124,16 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
                              std::uint32_t count, double* history_x, double* history_y, double* history_z,
                              std::uint32_t* touching_scratch) {
   const Frame f(c);
-  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0;
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0, damping = 0, friction = 0;
   std::uint32_t contacts = 0, sliding = 0;
 
   if (!touching_scratch) {
-#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, contacts, sliding)
+#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
     for (std::uint32_t k = 0; k < count; ++k) {
       const Contribution q = contact(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k]);
       fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
-      overlap += q.overlap, energy += q.energy, contacts += q.contact, sliding += q.slip;
+      overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
+      contacts += q.contact, sliding += q.slip;
     }
   } else {
     // Pass 1, every candidate: the distance only; separated pairs forget their history here.
@@ -148,18 +153,20 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
       n += t;
     }
     const std::uint32_t* index = flag;
-#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, contacts, sliding)
+#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
     for (std::uint32_t m = 0; m < n; ++m) {
       const std::uint32_t k = index[m];
       const Contribution q = contact(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k]);
       fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
-      overlap += q.overlap, energy += q.energy, contacts += q.contact, sliding += q.slip;
+      overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
+      contacts += q.contact, sliding += q.slip;
     }
   }
   PairKernelSums s;
   s.force = Vec3(fx, fy, fz);
   s.moment = Vec3(mx, my, mz);
   s.contacts = contacts, s.sliding = sliding, s.overlap = overlap, s.energy = energy;
+  s.damping = damping, s.friction = friction;
   return s;
 }
 

@@ -28,7 +28,10 @@ struct PairKernelSums {
   Vec3 force = Vec3::Zero();   ///< on grain a (N)
   Vec3 moment = Vec3::Zero();  ///< sum of (c - x_a) x F (N m)
   std::uint32_t contacts = 0, sliding = 0;
-  double overlap = 0, energy = 0;
+  double overlap = 0;   ///< sum of the overlaps (m)
+  double energy = 0;    ///< elastic energy stored in the contacts after the step (J)
+  double damping = 0;   ///< energy the dashpots took in this step (J)
+  double friction = 0;  ///< energy lost to sliding in this step (J)
 };
 
 /// The template's body-frame sphere offsets (m), one array per component, indexed by local sphere id:

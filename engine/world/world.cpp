@@ -58,6 +58,8 @@ BodyId World::add_grain(const Vec3& x, const Quat& q, double density, Motion mot
   spheres_current_ = false;
   external_force_.resize(bodies_.size(), Vec3::Zero());
   external_torque_.resize(bodies_.size(), Vec3::Zero());
+  applied_force_.resize(bodies_.size(), Vec3::Zero());
+  applied_torque_.resize(bodies_.size(), Vec3::Zero());
   neighbors_.invalidate();
   return id;
 }
@@ -76,10 +78,14 @@ void World::step() {
     kick(bodies_, dt / 2);
     drift(bodies_, dt);
     for (Wall& w : walls_) w.point += w.velocity * dt;
+    add_half_step_work(dt);  // with the forces of the step's start
   }
   compute_forces();
   {
     StageTimer t(times_.integrate);
+    add_half_step_work(dt);  // with the forces of its end
+    energy_.friction += stats_.friction_loss;
+    energy_.damping += stats_.damping_loss;
     kick(bodies_, dt / 2);
   }
   time_ += dt;
@@ -91,8 +97,10 @@ void World::compute_forces() {
   spheres_current_ = false;          // poses may have changed; positions are refreshed on demand
   update_neighbors();
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    bodies_.force[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
-    bodies_.torque[b] = external_torque_[b];
+    applied_force_[b] = bodies_.mass[b] * settings_.gravity + external_force_[b];
+    applied_torque_[b] = external_torque_[b];
+    bodies_.force[b] = applied_force_[b];
+    bodies_.torque[b] = applied_torque_[b];
   }
   sphere_contact_forces();
   wall_forces();
@@ -153,6 +161,8 @@ void World::sphere_contact_forces() {
   const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size()), n_bodies = long(bodies_.size());
   rotation_.resize(n_bodies);
+  pair_damping_.resize(n_pairs);  // not checkpointed (one evaluation's losses): sized here after a restore too
+  pair_friction_.resize(n_pairs);
 
 #pragma omp parallel if (n_pairs >= 8)
   {
@@ -166,7 +176,7 @@ void World::sphere_contact_forces() {
       if (gp.count == 0) {  // watched for drift, no sphere pair within reach
         pair_force_[p] = pair_torque_a_[p] = pair_torque_b_[p] = Vec3::Zero();
         pair_contacts_[p] = pair_sliding_[p] = 0;
-        pair_overlap_[p] = pair_energy_[p] = 0;
+        pair_overlap_[p] = pair_energy_[p] = pair_damping_[p] = pair_friction_[p] = 0;
         continue;
       }
       const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
@@ -197,13 +207,15 @@ void World::sphere_contact_forces() {
       pair_sliding_[p] = s.sliding;
       pair_overlap_[p] = s.overlap;
       pair_energy_[p] = s.energy;
+      pair_damping_[p] = s.damping;
+      pair_friction_[p] = s.friction;
     }
   }
 
   stats_.candidates = keys.size();
   candidate_steps_ += double(keys.size());
   stats_.contacts = stats_.sliding = 0;
-  stats_.elastic_energy = 0;
+  stats_.elastic_energy = stats_.damping_loss = stats_.friction_loss = 0;
   std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
   for (long p = 0; p < n_pairs; ++p) {
     const BodyPairSpan& gp = pairs[p];
@@ -214,6 +226,8 @@ void World::sphere_contact_forces() {
     stats_.contacts += pair_contacts_[p];
     stats_.sliding += pair_sliding_[p];
     stats_.elastic_energy += pair_energy_[p];
+    stats_.damping_loss += pair_damping_[p];
+    stats_.friction_loss += pair_friction_[p];
     overlap_sum_[gp.a] += pair_overlap_[p];
     overlap_sum_[gp.b] += pair_overlap_[p];
   }
@@ -241,6 +255,7 @@ void World::wall_forces() {
   wall_force_.resize(n_keys);
   wall_torque_.resize(n_keys);
   wall_touching_.resize(n_keys);
+  wall_energy_.resize(n_keys);
 #pragma omp parallel for schedule(static) if (n_keys >= 2048)
   for (long k = 0; k < n_keys; ++k) {
     const Wall& w = walls_[keys[k] >> 32];
@@ -262,8 +277,10 @@ void World::wall_forces() {
     const ContactForce cf = contact_force(law, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
     wall_force_[k] = cf.force;
     wall_torque_[k] = arm.cross(cf.force);
+    wall_energy_[k] = {cf.energy, cf.damping, cf.friction};
   }
   stats_.wall_contacts = 0;
+  stats_.wall_elastic_energy = 0;
   for (long k = 0; k < n_keys; ++k) {
     if (!wall_touching_[k]) continue;
     Wall& w = walls_[keys[k] >> 32];
@@ -273,6 +290,9 @@ void World::wall_forces() {
     w.force -= wall_force_[k];
     ++w.contacts;
     ++stats_.wall_contacts;
+    stats_.wall_elastic_energy += wall_energy_[k][0];
+    stats_.damping_loss += wall_energy_[k][1];
+    stats_.friction_loss += wall_energy_[k][2];
   }
 }
 
@@ -282,7 +302,8 @@ template <class Archive, class Self>
 void World::state(Archive& a, Self& w) {
   for (auto* field : {&w.bodies_.position, &w.bodies_.velocity, &w.bodies_.angular_momentum,
                       &w.bodies_.angular_velocity, &w.bodies_.force, &w.bodies_.torque, &w.bodies_.inertia,
-                      &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_, &w.external_torque_})
+                      &w.pair_force_, &w.pair_torque_a_, &w.pair_torque_b_, &w.external_force_, &w.external_torque_,
+                      &w.applied_force_, &w.applied_torque_})
     a.values(*field);
   a.values(w.bodies_.orientation);
   a.values(w.bodies_.mass);
@@ -299,6 +320,7 @@ void World::state(Archive& a, Self& w) {
   a.value(w.pair_searches_);
   a.value(w.candidate_steps_);
   a.value(w.stats_);
+  a.value(w.energy_);
   a.value(w.times_);
   w.neighbors_.state(a);
 }

@@ -6,6 +6,7 @@
 // the bodies in pair order, so the answer does not depend on the number of threads.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "engine/contact/pair_kernel.h"
 #include "engine/dynamics/bodies.h"
 #include "engine/geometry/grain_template.h"
+#include "engine/world/energy_balance.h"
 #include "engine/world/run_stats.h"
 
 namespace granulab {
@@ -32,6 +34,9 @@ struct ContactStats {
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
   double elastic_energy = 0;  ///< sum over sphere-sphere contacts of k_n delta^2/2 + |k_t xi|^2/(2 k_t) (J)
+  double wall_elastic_energy = 0;  ///< the same over the sphere-wall contacts (J)
+  double damping_loss = 0;         ///< the dashpots' work in the last evaluation, all contacts (J)
+  double friction_loss = 0;        ///< sliding's loss in the last evaluation, all contacts (J)
 };
 
 class World {
@@ -82,6 +87,10 @@ class World {
   const std::vector<Vec3>& external_force() const { return external_force_; }
   /// Translational plus rotational kinetic energy of the dynamic bodies (J).
   double kinetic_energy() const;
+  /// Starts the energy balance here: works and losses from zero, energies counted from their values now.
+  void start_energy_balance();
+  /// The balance since the last start_energy_balance() (or since the world was built).
+  EnergyBalance energy_balance() const;
 
   /// Everything a step reads or a measurement reports, bit for bit (checkpoints). restore() needs a world
   /// built the same way (same template, law, settings, number of bodies and walls); throws CheckpointError.
@@ -96,6 +105,7 @@ class World {
   void size_kernel_scratch();
   void sphere_contact_forces();
   void wall_forces();
+  void add_half_step_work(double dt);  // world_energy.cpp
 
   GrainTemplate grain_;
   OffsetArrays offset_arrays_;  // grain_'s offsets for the contact loop
@@ -112,7 +122,7 @@ class World {
   // Per-grain-pair results of the contact stage, reduced in pair order.
   std::vector<Vec3> pair_force_, pair_torque_a_, pair_torque_b_;
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
-  std::vector<double> pair_overlap_, pair_energy_;
+  std::vector<double> pair_overlap_, pair_energy_, pair_damping_, pair_friction_;
   std::vector<double> overlap_sum_;
   std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
   std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
@@ -120,7 +130,12 @@ class World {
   // centre (N m), and whether it touched.
   std::vector<Vec3> wall_force_, wall_torque_;
   std::vector<std::uint8_t> wall_touching_;
+  std::vector<std::array<double, 3>> wall_energy_;  // stored, dashpots' and sliding's (J), as ContactForce
   std::vector<Vec3> external_force_, external_torque_;
+  // The fixed forces (gravity and external) and torques of the last evaluation, as the bodies' forces hold them:
+  // external_force_ may change before the next step, whose first half kick still uses these.
+  std::vector<Vec3> applied_force_, applied_torque_;
+  EnergyTotals energy_;
 
   double time_ = 0;
   std::uint64_t steps_ = 0, rebuilds_ = 0, pair_searches_ = 0;

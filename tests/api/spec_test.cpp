@@ -598,9 +598,11 @@ TEST(Results, CurveCsvOfEmptyCurveIsTheHeaderAlone) {
 }
 
 TEST(Results, CrystalCountsAreIntegersAndTheEnergyRatioHasSixDigits) {
-  CrystalRow row{0.001, 61234.5678912, 60000, 612.345678912, -1e-5, 2e-5, 59999.5, 1.23456789e-3, 193012, 12, 3};
+  CrystalRow row{0.001, 61234.5678912, 60000, 612.345678912, -1e-5, 2e-5, 59999.5, 1.23456789e-3, 193012, 12, 3, {}};
+  row.energy = {1.234567890123e-3, -2.5e-4, 3e-5, 4.0000000001e-4, 5e-7, 6e-9, -1.23456789012e-8};
   EXPECT_EQ(curve_csv_line(CrystalRow::columns(), row.values()),
-            "0.001,61234.5679,60000,612.345679,-1e-05,2e-05,59999.5,0.00123457,193012,12,3\n");
+            "0.001,61234.5679,60000,612.345679,-1e-05,2e-05,59999.5,0.00123457,193012,12,3,"
+            "0.00123456789,-0.00025,3e-05,0.0004,5e-07,6e-09,-1.23456789e-08\n");
 }
 
 TEST(Results, SummaryJsonHasTheContractKeysWithUnits) {

@@ -253,7 +253,8 @@ TEST_F(CliTest, CrystalRunWritesCurveSummaryAndSnapshotFiles) {
   ASSERT_GE(lines.size(), 2u);
   EXPECT_EQ(lines[0],
             "strain,stress_top,stress_bottom,deviator,lateral_strain_x,lateral_strain_y,lateral_stress,"
-            "kinetic_elastic_ratio,contacts,sliding_contacts,segment");
+            "kinetic_elastic_ratio,contacts,sliding_contacts,segment,platen_work,confinement_work,elastic_energy,"
+            "friction_dissipation,damping_dissipation,kinetic_energy,energy_residual");
   const json s = json::parse(slurp(out / "summary.json"));
   EXPECT_EQ(s["grains"].get<long>(), 16);
   EXPECT_EQ(s["spheres"].get<long>(), 16 * (12 * 1 + 24 * 1 + 14));

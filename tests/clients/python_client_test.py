@@ -35,7 +35,9 @@ CRYSTAL = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
            "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 2},
            "loading": {"max_strain": 0.01, "rate_number": 1e-3}, "output": {"curve_points": 10}}
 CRYSTAL_COLUMNS = ["strain", "stress_top", "stress_bottom", "deviator", "lateral_strain_x", "lateral_strain_y",
-                   "lateral_stress", "kinetic_elastic_ratio", "contacts", "sliding_contacts", "segment"]
+                   "lateral_stress", "kinetic_elastic_ratio", "contacts", "sliding_contacts", "segment",
+                   "platen_work", "confinement_work", "elastic_energy", "friction_dissipation", "damping_dissipation",
+                   "kinetic_energy", "energy_residual"]
 TERMINAL = ("succeeded", "failed", "cancelled")
 
 

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/framework/energy_report.h"
+
 
 namespace granulab {
 
@@ -21,7 +23,8 @@ double mean_coordinate(const std::vector<BodyId>& bodies, const std::vector<Vec3
 }  // namespace
 
 const std::vector<CurveColumn>& CrystalRow::columns() {
-  static const std::vector<CurveColumn> c = {
+  static const std::vector<CurveColumn> c = [] {
+    std::vector<CurveColumn> c = {
       {"strain", "-", "axial strain: platen approach / initial length"},
       {"stress_top", "Pa", "top platen force / initial cross-section, compressive positive"},
       {"stress_bottom", "Pa", "bottom platen force / initial cross-section, compressive positive"},
@@ -33,14 +36,19 @@ const std::vector<CurveColumn>& CrystalRow::columns() {
       {"contacts", "-", "sphere pairs in contact", 0},
       {"sliding_contacts", "-", "of which at the Coulomb limit", 0},
       {"segment", "-", "loading.program segment the row belongs to (0 without a program)", 0},
-  };
+    };
+    c.insert(c.end(), energy_columns().begin(), energy_columns().end());
+    return c;
+  }();
   return c;
 }
 
 std::vector<double> CrystalRow::values() const {
-  return {strain,           stress_top,     stress_bottom,         deviator,         lateral_strain_x,
-          lateral_strain_y, lateral_stress, kinetic_elastic_ratio, double(contacts), double(sliding_contacts),
-          double(segment)};
+  std::vector<double> v = {strain,           stress_top,       stress_bottom,          deviator,
+                           lateral_strain_x, lateral_strain_y, lateral_stress,         kinetic_elastic_ratio,
+                           double(contacts), double(sliding_contacts), double(segment)};
+  append_energy_values(energy, v);
+  return v;
 }
 
 std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
@@ -80,6 +88,7 @@ CrystalRow CrystalCompression::measure(double strain) const {
   row.kinetic_elastic_ratio = sample_.kinetic_elastic_ratio();
   row.contacts = world.contact_stats().contacts;
   row.sliding_contacts = world.contact_stats().sliding;
+  row.energy = world.energy_balance();
   return row;
 }
 
@@ -92,6 +101,7 @@ GrainSnapshot CrystalCompression::snapshot(double strain) const { return crystal
 
 void CrystalCompression::take_reference() {
   ref_.take(sample_);
+  sample_.world().start_energy_balance();
   const std::vector<Vec3>& x = ref_.position;
   ref_width_ = mean_coordinate(sample_.side(1), x, 0) - mean_coordinate(sample_.side(0), x, 0);
   ref_thickness_ = mean_coordinate(sample_.side(3), x, 1) - mean_coordinate(sample_.side(2), x, 1);

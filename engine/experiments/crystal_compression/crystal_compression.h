@@ -47,6 +47,7 @@ struct CrystalRow {
   std::size_t contacts;              ///< sphere pairs in contact (-)
   std::size_t sliding_contacts;      ///< of which at the Coulomb limit (-)
   std::size_t segment = 0;           ///< loading program segment (-)
+  EnergyBalance energy;              ///< since the loading began (energy_report.h)
 
   /// The curve's columns (docs/api.md), in the order of values().
   static const std::vector<CurveColumn>& columns();

@@ -8,6 +8,7 @@
 
 #include "engine/analysis/loading_cycles.h"
 #include "engine/crystal/sample_parameters.h"
+#include "engine/framework/energy_report.h"
 #include "engine/experiments/crystal_compression/quasi_static_quality.h"
 
 namespace granulab {
@@ -112,6 +113,7 @@ struct CrystalSummary : ExperimentResult {
       w.number("start_strain", strain[s.first_row], "-");
       w.number("end_strain", strain[s.last_row], "-");
       w.number("end_deviator", deviator[s.last_row], "Pa");
+      write_energy_change(w, "energy", r.curve[s.first_row].energy, r.curve[s.last_row].energy);
       w.end_group();
     }
     w.end_list();
@@ -132,6 +134,7 @@ struct CrystalSummary : ExperimentResult {
       finite("unloading_slope_end", c.unloading_slope_end, "Pa");
       finite("reloading_slope_end", c.reloading_slope_end, "Pa");
       finite("dissipated_energy", c.dissipated_energy, "J/m^3");
+      write_energy_change(w, "energy", r.curve[c.first_row].energy, r.curve[c.last_row].energy);
       w.end_group();
     }
     w.end_list();

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/framework/energy_report.h"
+
 
 namespace granulab {
 
@@ -18,7 +20,8 @@ ShearParams::ShearParams() {
 }
 
 const std::vector<CurveColumn>& ShearRow::columns() {
-  static const std::vector<CurveColumn> c = {
+  static const std::vector<CurveColumn> c = [] {
+    std::vector<CurveColumn> c = {
       {"shear_strain", "-", "top layer travel along the shear direction / gap between the two layers at the start"},
       {"shear_over_normal", "-", "tau / sigma_n"},
       {"dilation", "-", "change of the gap between the two layers / gap at the start, opening positive"},
@@ -29,15 +32,20 @@ const std::vector<CurveColumn>& ShearRow::columns() {
       {"contacts", "-", "sphere pairs in contact", 0},
       {"sliding_contacts", "-", "of which at the Coulomb limit", 0},
       {"segment", "-", "loading.program segment the row belongs to (0 without a program)", 0},
-  };
+    };
+    c.insert(c.end(), energy_columns().begin(), energy_columns().end());  // the end layers are the platens
+    return c;
+  }();
   return c;
 }
 
 std::vector<double> ShearRow::values() const {
-  return {shear_strain,          shear_over_normal, dilation,
-          shear_stress,          normal_stress,     shear_stress_bottom,
-          kinetic_elastic_ratio, double(contacts),  double(sliding_contacts),
-          double(segment)};
+  std::vector<double> v = {shear_strain,          shear_over_normal, dilation,
+                           shear_stress,          normal_stress,     shear_stress_bottom,
+                           kinetic_elastic_ratio, double(contacts),  double(sliding_contacts),
+                           double(segment)};
+  append_energy_values(energy, v);
+  return v;
 }
 
 std::size_t shear_peak_row(const std::vector<ShearRow>& curve, double drop) {
@@ -175,6 +183,7 @@ ShearRow CrystalShear::measure() const {
   row.kinetic_elastic_ratio = sample_.kinetic_elastic_ratio();
   row.contacts = world.contact_stats().contacts;
   row.sliding_contacts = world.contact_stats().sliding;
+  row.energy = world.energy_balance();
   return row;
 }
 
@@ -271,6 +280,7 @@ void CrystalShear::confine_and_begin(Run& run) {
   for (Wall& w : walls) w.velocity.setZero();
   world.compute_forces();
   ref_.take(sample_);
+  world.start_energy_balance();
   // Each layer's height: the grains' centres clustered along z within a quarter of the lattice's plane spacing.
   std::vector<double> z;
   for (const Vec3& x : ref_.position) z.push_back(x.z());

@@ -42,6 +42,7 @@ struct ShearRow {
   double shear_stress_bottom;  ///< the bottom layer's along +x (Pa): equals tau when quasi-static
   double kinetic_elastic_ratio;
   std::size_t contacts, sliding_contacts, segment = 0;
+  EnergyBalance energy;  ///< since the shearing began (energy_report.h)
 
   static const std::vector<CurveColumn>& columns();
   std::vector<double> values() const;

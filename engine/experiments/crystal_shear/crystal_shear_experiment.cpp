@@ -6,6 +6,7 @@
 
 #include "engine/analysis/slip_bands.h"
 #include "engine/crystal/sample_parameters.h"
+#include "engine/framework/energy_report.h"
 
 namespace granulab {
 
@@ -104,6 +105,7 @@ struct ShearSummary : ExperimentResult {
       w.number("start_strain", r.curve[s.first_row].shear_strain, "-");
       w.number("end_strain", r.curve[s.last_row].shear_strain, "-");
       w.number("end_shear_over_normal", r.curve[s.last_row].shear_over_normal, "-");
+      write_energy_change(w, "energy", r.curve[s.first_row].energy, r.curve[s.last_row].energy);
       w.end_group();
     }
     w.end_list();

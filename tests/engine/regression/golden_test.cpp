@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "engine/experiments/crystal_compression/crystal_compression.h"
+#include "engine/framework/energy_report.h"
 
 namespace granulab {
 namespace {
@@ -67,10 +68,11 @@ Record run(const CrystalParams& p) {
 
 // Scale of each curve column (CrystalRow::columns()), every one of them: strains by max_strain, stresses
 // by p0, the energy ratio by 1, counts by the contacts at the start, the program segment by 1 (any change of
-// it is a failure).
+// it is a failure), the energies (J) by the platens' work over the run.
 std::vector<double> column_scales(const Record& r, const CrystalParams& p) {
   const double contacts = r.curve.front()[8];
-  const std::vector<double> scales = {p.max_strain,
+  const double work = std::abs(r.curve.back()[11]);
+  std::vector<double> scales = {p.max_strain,
                                       p.confining_pressure,
                                       p.confining_pressure,
                                       p.confining_pressure,
@@ -81,6 +83,7 @@ std::vector<double> column_scales(const Record& r, const CrystalParams& p) {
                                       contacts,
                                       contacts,
                                       1.0};
+  scales.insert(scales.end(), energy_columns().size(), work);
   EXPECT_EQ(scales.size(), CrystalRow::columns().size()) << "a curve column without a scale is never compared";
   return scales;
 }
