@@ -1,5 +1,8 @@
 #include "api/snapshot_files.h"
 
+#include "engine/analysis/snapshot_layers.h"
+
+#include "api/dic_files.h"
 #include "api/summary_json.h"
 #include "engine/analysis/slip_bands.h"
 #include "engine/crystal/crystal_lattice.h"
@@ -250,28 +253,20 @@ std::string snapshot_interfaces_vtk(const GrainSnapshot& s) {
   return out;
 }
 
-double neighbour_distance(const GrainSnapshot& s) {
-  std::unordered_map<std::uint32_t, std::size_t> index;
-  for (std::size_t i = 0; i < s.id.size(); ++i) index[value(s.id[i])] = i;
-  std::vector<double> d;
-  for (const GrainPair& p : s.interfaces) {
-    const auto a = index.find(value(p.a)), b = index.find(value(p.b));
-    if (a == index.end() || b == index.end()) continue;
-    d.push_back(
-        ((s.position[a->second] - s.displacement[a->second]) - (s.position[b->second] - s.displacement[b->second]))
-            .norm());
-  }
-  if (d.empty()) return 0;
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
-}
 
 std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s) {
   const std::string stem = "snapshots/snapshot_" + std::to_string(k);
-  return {{stem + ".json", snapshot_json(s).dump() + "\n"},
-          {stem + ".dump", snapshot_lammps_dump(s)},
-          {stem + "_grains.vtk", snapshot_grains_vtk(s)},
-          {stem + "_interfaces.vtk", snapshot_interfaces_vtk(s)}};
+  std::vector<SnapshotFile> files = {{stem + ".json", snapshot_json(s).dump() + "\n"},
+                                     {stem + ".dump", snapshot_lammps_dump(s)},
+                                     {stem + "_grains.vtk", snapshot_grains_vtk(s)},
+                                     {stem + "_interfaces.vtk", snapshot_interfaces_vtk(s)}};
+  // The front face's DIC-like map at its default step (about four nodes per face grain); none without grains.
+  if (!s.id.empty()) {
+    const DicMap map = snapshot_dic_map(s, std::nullopt, std::size_t(-1));
+    files.push_back({stem + "_dic.csv", dic_csv(map)});
+    files.push_back({stem + "_dic.vtk", dic_vtk(map)});
+  }
+  return files;
 }
 
 }  // namespace granulab::api

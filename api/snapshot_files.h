@@ -31,10 +31,8 @@ struct SnapshotFile {
   std::string name, text;
 };
 /// Snapshot k in every format, as `granulab run` writes them and the server's archive holds them:
-/// snapshot_k.json, snapshot_k.dump, snapshot_k_grains.vtk and snapshot_k_interfaces.vtk.
+/// snapshot_k.json, snapshot_k.dump, snapshot_k_grains.vtk, snapshot_k_interfaces.vtk, and the front face's DIC-like
+/// map at its default step, snapshot_k_dic.csv and snapshot_k_dic.vtk (api/dic_files.h).
 std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s);
-/// The FCC nearest-neighbour distance of the reference state (median over the interfaces, m); the
-/// grains' inscribed radius is half of it. 0 when the snapshot has no interfaces.
-double neighbour_distance(const GrainSnapshot& s);
 
 }  // namespace granulab::api

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "api/curve_format.h"
+#include "api/snapshot_files.h"
 #include "api/pictures/curve_pictures.h"
 #include "server/http/replies.h"
 
@@ -102,6 +103,22 @@ bool curve_choice(const http::Request& req, http::Response& res, const json& spe
   http::error(res, 400, "invalid_value",
               "'y' must be a curve column of this experiment (" + list + "), got '" + choice.y + "'", "y");
   return false;
+}
+
+std::optional<GrainSnapshot> stored_snapshot(JobStore& store, const JobRecord& job, const std::string& index,
+                                             http::Response& res) {
+  const auto k = http::path_id(index);
+  const auto blob = k && *k <= INT32_MAX ? store.snapshot(job.id, int(*k)) : std::nullopt;
+  if (!blob) {
+    http::error(res, 404, "not_found", "no snapshot " + index + " of job " + std::to_string(job.id));
+    return std::nullopt;
+  }
+  try {
+    return api::snapshot_from_json(nlohmann::json::parse(blob->begin(), blob->end()));
+  } catch (const std::exception& e) {
+    http::error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
+    return std::nullopt;
+  }
 }
 
 }  // namespace granulab::server

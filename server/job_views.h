@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/pictures/curve_pictures.h"
+#include "engine/analysis/grain_snapshot.h"
 #include "server/http/message.h"
 #include "server/store/job_store.h"
 
@@ -28,6 +29,10 @@ std::optional<nlohmann::json> curve_columns(JobStore& store, const JobRecord& jo
 /// status; nullopt when it has no rows yet.
 std::optional<std::string> job_curve_svg(JobStore& store, const JobRecord& job,
                                          const pictures::CurveChoice& choice = {});
+/// Snapshot `index` (the path's digits) of `job` as stored; nullopt after answering 404 (no such snapshot) or 500
+/// (unreadable).
+std::optional<GrainSnapshot> stored_snapshot(JobStore& store, const JobRecord& job, const std::string& index,
+                                             http::Response& res);
 /// The reader's choice of units (?units=natural|si) and column (?y=, one of the experiment's curve
 /// columns) for the curve pictures; false after a 400 naming the parameter.
 bool curve_choice(const http::Request& req, http::Response& res, const nlohmann::json& spec,

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
 #include "api/pictures/colour_map.h"
 #include "api/snapshot_files.h"
 #include "api/pictures/svg_text.h"
 #include "engine/analysis/slip_bands.h"
+#include "engine/analysis/snapshot_layers.h"
 #include "engine/geometry/polyhedron.h"
 
 namespace granulab::pictures {
@@ -47,35 +47,20 @@ double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
   return 0;
 }
 
-// Lattice measures from the reference state (position - displacement).
+// Lattice measures from the reference state (snapshot_layers.h).
 struct Layers {
   double neighbour = 0;    // nearest-neighbour distance (m)
   std::vector<int> layer;  // per grain
   int count = 0;
 };
 
-// The layers are the planes of equal reference y: grains whose y lies within a tenth of the mean layer spacing of
-// the previous one share its layer (HCP's planes are unevenly spaced, so y is not rounded to a period).
 Layers find_layers(const GrainSnapshot& s) {
   Layers out;
-  const std::size_t n = s.id.size();
-  out.neighbour = api::neighbour_distance(s);
+  out.neighbour = neighbour_distance(s);
   if (!(out.neighbour > 0)) out.neighbour = 1;
-  // Snapshots stored before lattices were a choice: the paper's {111} layers, a'/sqrt3 = neighbour sqrt(2/3) apart.
-  const double spacing = s.layer_spacing > 0 ? s.layer_spacing : out.neighbour * std::sqrt(2.0 / 3.0);
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t(0));
-  const auto y = [&](std::size_t i) { return s.position[i].y() - s.displacement[i].y(); };
-  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return y(i) < y(j); });
-  out.layer.resize(n);
-  int layer = -1;
-  double last = -1e300;
-  for (std::size_t i : order) {
-    if (y(i) - last > 0.1 * spacing) ++layer;
-    last = y(i);
-    out.layer[i] = layer;
-  }
-  out.count = layer + 1;
+  SnapshotLayers layers = snapshot_layers(s);
+  out.layer = std::move(layers.layer);
+  out.count = layers.count;
   return out;
 }
 
@@ -271,25 +256,8 @@ std::string section_svg(const GrainSnapshot& s, Field field, std::optional<int> 
   }
   svg += "</g>\n";
 
-  // Colour bar with five ticks.
   const double bar_top = top + 10, bar_h = std::min(std::max(ph, 220.0) - 20, 360.0);
-  svg += "<g class=\"colour-bar\">\n";
-  for (int k = 0; k < 64; ++k)
-    svg += "<rect x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h * (63 - k) / 64) + "\" width=\"18\" height=\"" +
-           num(bar_h / 64 + 0.5) + "\" fill=\"" + viridis((k + 0.5) / 64) + "\"/>\n";
-  svg += "<rect x=\"" + num(bar_x) + "\" y=\"" + num(bar_top) + "\" width=\"18\" height=\"" + num(bar_h) +
-         "\" fill=\"none\" stroke=\"#333\"/>\n";
-  const auto ticks = nice_ticks(lo, hi, 5);
-  const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
-  for (double t : ticks) {
-    if (t < lo || t > hi) continue;
-    const double y = bar_top + bar_h * (1 - (t - lo) / (hi - lo));
-    svg += "<line x1=\"" + num(bar_x + 18) + "\" y1=\"" + num(y) + "\" x2=\"" + num(bar_x + 23) + "\" y2=\"" + num(y) +
-           "\" stroke=\"#333\"/><text x=\"" + num(bar_x + 26) + "\" y=\"" + num(y + 4) + "\">" + tick_label(t, step) +
-           "</text>\n";
-  }
-  svg += "<text transform=\"translate(" + num(bar_x + 95) + "," + num(bar_top + bar_h / 2) +
-         ") rotate(-90)\" text-anchor=\"middle\">" + xml_escape(fi.label) + "</text>\n</g>\n";
+  svg += colour_bar_svg(bar_x, bar_top, bar_h, lo, hi, fi.label);
   svg += "<text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 28) + "\" font-size=\"11\">" +
          std::to_string(sliding) + " interfaces</text><text x=\"" + num(bar_x) + "\" y=\"" + num(bar_top + bar_h + 42) +
          "\" font-size=\"11\">sliding &gt; 2x mean</text>\n";

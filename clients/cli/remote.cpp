@@ -349,6 +349,8 @@ int run_remote(int argc, char** argv) {
       save(stem.string() + ".dump", call(http, a.server, "GET", base + "?format=dump"));
       save(stem.string() + "_grains.vtk", call(http, a.server, "GET", base + "?format=vtk"));
       save(stem.string() + "_interfaces.vtk", call(http, a.server, "GET", base + "?format=vtk_interfaces"));
+      save(stem.string() + "_dic.csv", call(http, a.server, "GET", base + "?format=dic_csv"));
+      save(stem.string() + "_dic.vtk", call(http, a.server, "GET", base + "?format=dic_vtk"));
     }
     if (!finished) {
       std::fprintf(stderr, "job %s is %s: its results so far are in %s (no summary.json)\n", id.c_str(),

@@ -224,9 +224,13 @@ class Client:
         c = self.curve(job_id)
         return pandas.DataFrame({name: c[name] for name in c["columns"]})
 
-    def snapshot_file(self, job_id, k, fmt="dump"):
-        """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO), "vtk" or "vtk_interfaces" (ParaView), "json"."""
-        return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}", {"format": fmt}, raw=True)
+    def snapshot_file(self, job_id, k, fmt="dump", step=None):
+        """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO), "vtk" or "vtk_interfaces" (ParaView), "json", or
+        the front face's DIC-like map, "dic_csv" or "dic_vtk", on a grid of `step` m (default: half a grain spacing)."""
+        query = {"format": fmt}
+        if step is not None:
+            query["step"] = repr(float(step))
+        return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}", query, raw=True)
 
     def archive(self, job_id, path):
         """Saves everything of a job (spec, summary, curve, every snapshot in every format) as a tar at `path`."""

@@ -1,5 +1,9 @@
 #include "server/http/replies.h"
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
 namespace granulab::server::http {
 
 using nlohmann::json;
@@ -39,6 +43,23 @@ bool query_int(const Request& req, Response& res, const char* name, long lo, lon
         std::string("'") + name + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
             "], got '" + text + "'",
         name);
+  return false;
+}
+
+bool query_number(const Request& req, Response& res, const char* name, double lo, double hi,
+                  std::optional<double>& value) {
+  if (!req.has_param(name)) return true;
+  const std::string text = req.get_param_value(name);
+  char* end = nullptr;
+  const double v = text.empty() || text.size() > 40 ? NAN : std::strtod(text.c_str(), &end);
+  if (std::isfinite(v) && end && *end == '\0' && v > lo && v <= hi) {
+    value = v;
+    return true;
+  }
+  char range[96];
+  std::snprintf(range, sizeof range, "(%g, %g]", lo, hi);
+  error(res, 400, "out_of_range", std::string("'") + name + "' must be a number in " + range + ", got '" +
+                                      text.substr(0, 40) + "'", name);
   return false;
 }
 

@@ -20,6 +20,8 @@ void error(Response& res, int status, const std::string& code, const std::string
 std::optional<std::int64_t> path_id(const std::string& digits);
 /// Reads ?name= as an integer in [lo, hi] into value (untouched when absent); false after a 400 naming it.
 bool query_int(const Request& req, Response& res, const char* name, long lo, long hi, long& value);
+/// Reads ?name= as a finite number in (lo, hi] into value (untouched when absent); false after a 400 naming it.
+bool query_number(const Request& req, Response& res, const char* name, double lo, double hi, std::optional<double>& value);
 /// Reads ?name= as true or false (`fallback` when absent); false after a 400 naming it.
 bool query_bool(const Request& req, Response& res, const char* name, bool fallback, bool& value);
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 
+#include "api/dic_files.h"
 #include "api/snapshot_files.h"
 #include "server/routes/routes.h"
 #include "server/http/replies.h"
@@ -56,30 +57,45 @@ class TarWriter {
 }  // namespace
 
 void mount_export_routes(Router& router, const RouteContext& c) {
-  // One snapshot: JSON (per-grain and per-interface arrays), a LAMMPS dump, or VTK (grains or interfaces).
-  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", {"format"}, [c](const http::Request& req, http::Response& res) {
+  // One snapshot: JSON (per-grain and per-interface arrays), a LAMMPS dump, VTK (grains or interfaces), or its
+  // front face's DIC-like map (?step= m) as CSV or a VTK image.
+  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+))", {"format", "step"}, [c](const http::Request& req, http::Response& res) {
     const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
-    if (format != "json" && format != "dump" && format != "vtk" && format != "vtk_interfaces")
+    if (format != "json" && format != "dump" && format != "vtk" && format != "vtk_interfaces" && format != "dic_csv" &&
+        format != "dic_vtk")
       return error(res, 400, "invalid_value",
-                   "'format' must be one of: json, dump, vtk, vtk_interfaces, got '" + format + "'", "format");
-    const auto index = path_id(req.matches[2]);
-    const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
-    if (!blob)
-      return error(res, 404, "not_found",
-                   "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
-    if (format == "json") return res.set_content(std::string(blob->begin(), blob->end()), "application/json");
-    const GrainSnapshot s = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
-    const std::string name = "job" + std::to_string(job->id) + "_snapshot_" + std::to_string(*index);
-    if (format == "dump") {
-      res.set_header("Content-Disposition", "attachment; filename=\"" + name + ".dump\"");
-      return res.set_content(api::snapshot_lammps_dump(s), "text/plain");
+                   "'format' must be one of: json, dump, vtk, vtk_interfaces, dic_csv, dic_vtk, got '" + format + "'",
+                   "format");
+    std::optional<double> step;
+    if (!query_number(req, res, "step", 0, 1, step)) return;
+    if (format == "json") {
+      const auto index = path_id(req.matches[2]);
+      const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
+      if (!blob)
+        return error(res, 404, "not_found",
+                     "no snapshot " + std::string(req.matches[2]) + " of job " + std::string(req.matches[1]));
+      return res.set_content(std::string(blob->begin(), blob->end()), "application/json");
     }
-    const bool grains = format == "vtk";
-    res.set_header("Content-Disposition",
-                   "attachment; filename=\"" + name + (grains ? "_grains.vtk\"" : "_interfaces.vtk\""));
-    res.set_content(grains ? api::snapshot_grains_vtk(s) : api::snapshot_interfaces_vtk(s), "text/plain");
+    const auto s = stored_snapshot(c.store, *job, req.matches[2], res);
+    if (!s) return;
+    const std::string name = "job" + std::to_string(job->id) + "_snapshot_" + std::string(req.matches[2]);
+    const auto attach = [&](const std::string& file, const std::string& text, const char* type) {
+      res.set_header("Content-Disposition", "attachment; filename=\"" + name + file + "\"");
+      res.set_content(text, type);
+    };
+    if (format == "dump") return attach(".dump", api::snapshot_lammps_dump(*s), "text/plain");
+    if (format == "vtk") return attach("_grains.vtk", api::snapshot_grains_vtk(*s), "text/plain");
+    if (format == "vtk_interfaces") return attach("_interfaces.vtk", api::snapshot_interfaces_vtk(*s), "text/plain");
+    DicMap map;
+    try {
+      map = api::snapshot_dic_map(*s, step, kMaxDicNodes);
+    } catch (const std::invalid_argument& e) {
+      return error(res, 400, "out_of_range", e.what(), "step");
+    }
+    if (format == "dic_csv") return attach("_dic.csv", api::dic_csv(map), "text/csv");
+    attach("_dic.vtk", api::dic_vtk(map), "text/plain");
   });
 
   // Everything of one job: spec.json, summary.json (when it succeeded), curve.csv, curve.svg and every

@@ -3,6 +3,8 @@
 // have so far.
 #include "api/pictures/curve_pictures.h"
 #include "api/pictures/section_picture.h"
+#include "api/dic_files.h"
+#include "api/pictures/dic_picture.h"
 #include "api/snapshot_files.h"
 #include "server/routes/routes.h"
 #include "server/http/replies.h"
@@ -70,17 +72,9 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
           if (!query_int(req, res, "slice", 0, 1 << 20, value)) return;
           layer = int(value);
         }
-        const auto index = path_id(req.matches[2]);
-        const auto blob = index && *index <= INT32_MAX ? c.store.snapshot(job->id, int(*index)) : std::nullopt;
-        if (!blob)
-          return error(res, 404, "not_found",
-                       "no snapshot " + std::string(req.matches[2]) + " of job " + std::to_string(job->id));
-        GrainSnapshot snapshot;
-        try {
-          snapshot = api::snapshot_from_json(json::parse(blob->begin(), blob->end()));
-        } catch (const std::exception& e) {
-          return error(res, 500, "internal", std::string("stored snapshot unreadable: ") + e.what());
-        }
+        const auto stored = stored_snapshot(c.store, *job, req.matches[2], res);
+        if (!stored) return;
+        const GrainSnapshot& snapshot = *stored;
         try {
           res.set_content(pictures::section_svg(snapshot, *field, layer,
                                                 job->label.empty() ? "job " + std::to_string(job->id) : job->label),
@@ -91,6 +85,31 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
           error(res, 404, "not_found", e.what(), "field");
         }
       });
+
+  // The front face's DIC-like map (engine/analysis/dic_map.h), ?field= and ?step= (m).
+  router.get(R"(/v1/jobs/(\d+)/snapshots/(\d+)/dic\.svg)", {"field", "step"},
+             [c](const http::Request& req, http::Response& res) {
+               const auto job = c.access.job_for(c.store, req, res, "read", false);
+               if (!job) return;
+               const std::string field_name = req.has_param("field") ? req.get_param_value("field") : "gamma_max";
+               const auto field = pictures::parse_dic_field(field_name);
+               if (!field)
+                 return error(res, 400, "invalid_value",
+                              "'field' must be one of: gamma_max, exx, ezz, exz, ux, uz, got '" + field_name + "'",
+                              "field");
+               std::optional<double> step;
+               if (!query_number(req, res, "step", 0, 1, step)) return;
+               const auto snapshot = stored_snapshot(c.store, *job, req.matches[2], res);
+               if (!snapshot) return;
+               try {
+                 const DicMap map = api::snapshot_dic_map(*snapshot, step, kMaxDicNodes);
+                 res.set_content(pictures::dic_svg(map, *field, snapshot->strain,
+                                                   job->label.empty() ? "job " + std::to_string(job->id) : job->label),
+                                 "image/svg+xml");
+               } catch (const std::invalid_argument& e) {
+                 error(res, 400, "out_of_range", e.what(), "step");
+               }
+             });
 }
 
 }  // namespace granulab::server

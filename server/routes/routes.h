@@ -14,6 +14,10 @@
 
 namespace granulab::server {
 
+/// The most nodes a DIC-like map over HTTP may have (its CSV is about 100 B a node: 25 MB at this bound); a finer
+/// ?step= is a 400 that says so.
+constexpr std::size_t kMaxDicNodes = 250000;
+
 struct RouteContext {
   JobStore& store;
   Executor& executor;
@@ -30,7 +34,7 @@ void mount_meta_routes(http::Router& router, const RouteContext& context);
 void mount_job_routes(http::Router& router, const RouteContext& context);
 /// /v1/sweeps... (sweep_routes.cpp).
 void mount_sweep_routes(http::Router& router, const RouteContext& context);
-/// The SVG pictures: a job's curve, a sweep's curves, a snapshot's section (picture_routes.cpp).
+/// The SVG pictures: a job's curve, a sweep's curves, a snapshot's section and DIC-like map (picture_routes.cpp).
 void mount_picture_routes(http::Router& router, const RouteContext& context);
 /// A snapshot as a viewer's file, a job's archive (export_routes.cpp).
 void mount_export_routes(http::Router& router, const RouteContext& context);

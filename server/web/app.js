@@ -143,6 +143,20 @@ function summaryTable(title, rows) {
       ...flat.map((r) => el("tr", {}, keys.map((k) => el("td", { class: typeof r[k] === "number" ? "num" : "" },
         typeof r[k] === "number" ? fmt(r[k], 4) : String(r[k] ?? "")))))));
 }
+// A snapshot's slip bands (docs/api.md): plane and direction by their indices, slip, dilation and extent.
+function bandTable(bands) {
+  if (!Array.isArray(bands)) return null;
+  const title = el("h3", {}, "Slip bands (interfaces sliding more than twice the mean)");
+  if (!bands.length) return el("section", { class: "summary-table" }, title, el("p", { class: "hint" }, "none: no band of sliding interfaces"));
+  const mm = (m) => fmt(1e3 * m, 3);
+  return el("section", { class: "summary-table" }, title,
+    el("table", { id: "slip-band-table" },
+      el("tr", {}, ["plane", "off plane (°)", "slip (mm)", "direction", "off direction (°)", "dilation (°)", "extent (mm)", "interfaces"].map((h) => el("th", {}, h))),
+      ...bands.map((b) => el("tr", { class: "slip-band" },
+        el("td", {}, b.plane), el("td", { class: "num" }, fmt(b.angle_to_plane, 2)), el("td", { class: "num" }, mm(b.slip)),
+        el("td", {}, b.direction), el("td", { class: "num" }, fmt(b.direction_angle, 2)), el("td", { class: "num" }, fmt(b.dilation_angle, 2)),
+        el("td", { class: "num" }, mm(b.extent)), el("td", { class: "num" }, String(b.interfaces))))));
+}
 function when(ms) { return ms ? new Date(ms).toLocaleString() : ""; }
 function fmt(x, digits = 3) { return typeof x === "number" ? Number(x.toPrecision(digits)).toString() : ""; }
 // replaceChildren, skipping null and undefined (which the DOM would write as text).
@@ -187,10 +201,20 @@ async function jobView(id) {
     ["equivalent_strain", "gamma_max", "severity", "displacement", "d2min", "misorientation"].map((f) => el("option", { value: f }, f)));
   const sliceInput = el("input", { id: "snapshot-slice", type: "number", min: 0, placeholder: "middle", style: "width:6em" });
   const snapshotDownloads = el("span", { class: "downloads" });
+  // The snapshot's slip bands (summary or snapshot JSON) and its front face as DIC would see it.
+  const bandsTable = el("div", { id: "slip-bands" });
+  const dicPicture = el("div", { class: "picture", id: "dic" });
+  const dicField = el("select", { id: "dic-field" },
+    ["gamma_max", "exx", "ezz", "exz", "ux", "uz"].map((f) => el("option", { value: f }, f)));
+  const dicStep = el("input", { id: "dic-step", type: "number", min: 0, step: "any", placeholder: "default", style: "width:7em" });
   const snapshots = el("section", { id: "snapshots", hidden: true }, el("h2", {}, "Snapshots"),
     el("div", { class: "controls" }, el("label", {}, "snapshot ", snapshotSelect), el("label", {}, "field ", fieldSelect),
       el("label", { title: "a layer of the crystal normal to y: {111} for the paper's crystal; the picture's caption names the planes" }, "layer ", sliceInput), snapshotDownloads),
-    snapshotPicture);
+    snapshotPicture, bandsTable,
+    el("h3", {}, "Front face, as digital image correlation would see it"),
+    el("div", { class: "controls" }, el("label", {}, "field ", dicField),
+      el("label", { title: "the grid step in metres (default: half the grain spacing)" }, "grid step (m) ", dicStep)),
+    dicPicture);
   const downloads = el("p", { class: "downloads" },
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve?format=csv`, `job${id}_curve.csv`); } }, "curve.csv"),
     el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/curve.svg`, `job${id}_curve.svg`); } }, "curve.svg"),
@@ -210,11 +234,25 @@ async function jobView(id) {
     if (k === "") return;
     const slice = sliceInput.value === "" ? "" : "&slice=" + encodeURIComponent(sliceInput.value);
     picture(`/v1/jobs/${id}/snapshots/${k}.svg?field=${fieldSelect.value}${slice}`, snapshotPicture);
-    fill(snapshotDownloads, "download: ", ...["json", "dump", "vtk", "vtk_interfaces"].map((f) =>
-      el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/snapshots/${k}?format=${f}`,
-        `job${id}_snapshot_${k}.${f === "vtk_interfaces" ? "interfaces.vtk" : f}`); } }, f)));
+    const step = dicStep.value === "" ? "" : "&step=" + encodeURIComponent(dicStep.value);
+    picture(`/v1/jobs/${id}/snapshots/${k}/dic.svg?field=${dicField.value}${step}`, dicPicture);
+    const files = { vtk_interfaces: "interfaces.vtk", dic_csv: "dic.csv", dic_vtk: "dic.vtk" };
+    fill(snapshotDownloads, "download: ", ...["json", "dump", "vtk", "vtk_interfaces", "dic_csv", "dic_vtk"].map((f) =>
+      el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/snapshots/${k}?format=${f}${f.startsWith("dic") ? step : ""}`,
+        `job${id}_snapshot_${k}.${files[f] || f}`); } }, f)));
+    showBands(k);
   };
-  for (const control of [snapshotSelect, fieldSelect, sliceInput]) control.addEventListener("change", showSnapshot);
+  // A finished job's summary lists each snapshot's bands; a running one's come from the snapshot itself.
+  let summarySnapshots = null;
+  const showBands = async (k) => {
+    let bands = summarySnapshots && summarySnapshots[k] ? summarySnapshots[k].slip_bands : undefined;
+    if (bands === undefined) {
+      try { bands = (await getJson(`/v1/jobs/${id}/snapshots/${k}`)).slip_bands; } catch (e) { bands = undefined; }
+    }
+    if (snapshotSelect.value !== String(k)) return;  // another snapshot was chosen meanwhile
+    fill(bandsTable, bandTable(bands));
+  };
+  for (const control of [snapshotSelect, fieldSelect, sliceInput, dicField, dicStep]) control.addEventListener("change", showSnapshot);
 
   let known = -1;
   const refresh = async () => {
@@ -225,6 +263,7 @@ async function jobView(id) {
     if (columnSelect.options.length === 1 && registry[job.experiment])
       columnSelect.append(...registry[job.experiment].curve_columns.map((c) => el("option", { value: c.name }, c.name + " (" + c.unit + ")")));
     lastStatus = job.status;
+    summarySnapshots = job.summary && Array.isArray(job.summary.snapshots) ? job.summary.snapshots : null;
     fill(head, 
       el("h1", {}, "Job " + job.id + ": " + (job.label || job.experiment)),
       el("p", {}, statusCell(job.status), "  ", progressBar(job),

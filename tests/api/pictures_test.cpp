@@ -14,6 +14,7 @@
 #include "api/pictures/line_plot.h"
 #include "api/pictures/section_picture.h"
 #include "api/pictures/svg_text.h"
+#include "engine/analysis/snapshot_layers.h"
 #include "api/snapshot_files.h"
 #include "engine/crystal/crystal_lattice.h"
 
@@ -271,7 +272,7 @@ TEST(SnapshotFiles, JsonRoundTripAndTheDumpsRadiusIsHalfTheNeighbourDistance) {
   const GrainSnapshot r = api::snapshot_from_json(api::snapshot_json(s));
   EXPECT_EQ(api::snapshot_json(r), api::snapshot_json(s));
   EXPECT_EQ(r.step, 1234u);
-  EXPECT_NEAR(api::neighbour_distance(s), kSize / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(neighbour_distance(s), kSize / std::sqrt(2.0), 1e-12);
   const std::string dump = api::snapshot_lammps_dump(s);
   EXPECT_NE(dump.find("ITEM: ATOMS id x y z radius "), std::string::npos);
   const auto line = dump.find('\n', dump.find("ITEM: ATOMS")) + 1;

@@ -359,8 +359,16 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(len(atoms), 8)  # a line per grain
             self.assertTrue(all(len(line.split()) == len(columns) for line in atoms))
             self.assertTrue(all(float(line.split()[4]) > 0 for line in atoms))
-            for fmt in ("vtk", "vtk_interfaces"):
+            for fmt in ("vtk", "vtk_interfaces", "dic_vtk"):
                 self.assertTrue(self.client.snapshot_file(job, k, fmt).startswith("# vtk DataFile"), fmt)
+            # The DIC-like map: a finer step gives more nodes; strain 0 is no strain anywhere.
+            coarse = self.client.snapshot_file(job, k, "dic_csv", step=0.004).splitlines()
+            fine = self.client.snapshot_file(job, k, "dic_csv", step=0.001).splitlines()
+            self.assertEqual(coarse[0], "x,z,ux,uy,uz,exx,ezz,exz,gamma_max")
+            self.assertGreater(len(fine), 4 * (len(coarse) - 1))
+            if k == 0:
+                self.assertTrue(all(abs(float(row.split(",")[5])) < 1e-12 for row in fine[1:]
+                                    if row.split(",")[5] != "nan"))
             as_json = json.loads(self.client.snapshot_file(job, k, "json"))
             self.assertEqual(as_json, self.client.snapshot(job, k))
             self.assertEqual(self.client.snapshot_file(job, k), "\n".join(dump) + "\n")  # the client's default: dump
@@ -379,7 +387,7 @@ class PythonClientTest(unittest.TestCase):
             d = f"job_{job}/"
             expected = {d + "spec.json", d + "summary.json", d + "curve.csv"}
             for k in indices:
-                for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk"):
+                for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk"):
                     expected.add(f"{d}snapshots/snapshot_{k}{suffix}")
             self.assertLessEqual(expected, names)
             spec = json.loads(tar.extractfile(d + "spec.json").read())

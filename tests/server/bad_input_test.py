@@ -1135,6 +1135,20 @@ class BadInputTest(unittest.TestCase):
                              check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=vtk_interfaces", 200,
                              check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dic_csv", 200,
+                             check=both(content_type("text/csv"), starts(b"x,z,ux,uy,uz,exx,ezz,exz,gamma_max\n"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dic_vtk&step=0.002", 200,
+                             check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}/dic.svg?field=exz&step=0.003", 200,
+                             check=content_type("image/svg+xml")))
+        # The grid step: a positive number of metres, at most 1, and not so fine the map passes 250,000 nodes.
+        for v in ["0", "-0.001", "nan", "inf", "1e400", "abc", "", "0.001x", "2", "1e-9", "x" * 5000]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0?format=dic_csv&step={v}", 400, field="step"))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0/dic.svg?step={v}", 400, field="step"))
+        for v in ["severity", "", "GAMMA_MAX", "x" * 5000]:
+            cases.append(get(f"/v1/jobs/{c}/snapshots/0/dic.svg?field={v}", 400, field="field"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/99/dic.svg", 404))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0/dic.svg?slice=0", 400, field="slice", code="unknown_parameter"))
         for v in ["xml", "%FF", "", "JSON", "json%00", "dump,vtk", "vtk%20", "csv", "svg", "vtk_grains", "x" * 5000]:
             cases.append(get(f"/v1/jobs/{c}/snapshots/0?format={v}", 400, field="format"))
         cases.append(get(f"/v1/jobs/{c}/snapshots/0?format=json&format=dump", (200, 400)))
@@ -1143,7 +1157,7 @@ class BadInputTest(unittest.TestCase):
 
         # -- GET /v1/jobs/{id}/archive -----------------------------------------------------------------------------
         snapshot_files = [f"snapshots/snapshot_{k}{ext}" for k in range(n_snapshots)
-                          for ext in (".json", ".dump", "_grains.vtk", "_interfaces.vtk")]
+                          for ext in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk")]
         cases.append(get(f"/v1/jobs/{d}/archive", 200,
                          check=tar_holds(d, ["spec.json", "summary.json", "curve.csv", "curve.svg"],
                                          ["snapshots/snapshot_0.json"])))

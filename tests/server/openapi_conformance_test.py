@@ -704,7 +704,8 @@ class OpenApiConformanceTest(unittest.TestCase):
                                   ("POST /v1/jobs/{id}/cancel", "/cancel", False),
                                   ("POST /v1/jobs/{id}/priority", "/priority?value=1", False),
                                   ("GET /v1/jobs/{id}/snapshots/{k}", "/snapshots/0", True),
-                                  ("GET /v1/jobs/{id}/snapshots/{k}.svg", "/snapshots/0.svg", True)]:
+                                  ("GET /v1/jobs/{id}/snapshots/{k}.svg", "/snapshots/0.svg", True),
+                                  ("GET /v1/jobs/{id}/snapshots/{k}/dic.svg", "/snapshots/0/dic.svg", True)]:
             body = b"" if path_op.startswith("POST") else None
             for bad in [str(MISSING), "0", "9" * 25]:
                 cases.append(G(path_op, f"/v1/jobs/{bad}{tail}", body=body, expect=404, what="no such job"))
@@ -740,8 +741,14 @@ class OpenApiConformanceTest(unittest.TestCase):
         op = "GET /v1/jobs/{id}/snapshots/{k}"
         for k in range(min(2, f["snapshots"])):
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}", expect=200))
-            for fmt in ["json", "dump", "vtk", "vtk_interfaces"]:
+            for fmt in ["json", "dump", "vtk", "vtk_interfaces", "dic_csv", "dic_vtk"]:
                 cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}?format={fmt}", expect=200))
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}?format=dic_csv&step=0.002", expect=200))
+        for v in ["0", "-1", "abc", "2"]:
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/0?format=dic_vtk&step={v}", expect=400, bad_param="step",
+                           what="bad grid step"))
+        cases.append(G(op, f"/v1/jobs/{c}/snapshots/0?format=dic_vtk&step=1e-9", expect=400, bad_param="step",
+                       depends=True, what="a grid over 250,000 nodes"))
         for v in ["xml", "csv", "VTK", ""]:
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/0?format={v}", expect=400, bad_param="format", what="bad format"))
         for k in [str(f["snapshots"]), "9" * 25]:
@@ -762,6 +769,21 @@ class OpenApiConformanceTest(unittest.TestCase):
         for k in [str(f["snapshots"]), "9" * 25]:
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}.svg", expect=404, what="no such snapshot"))
         cases.append(G(op, f"/v1/jobs/{d}/snapshots/0.svg", expect=404, what="two cubes take no snapshot"))
+        op = "GET /v1/jobs/{id}/snapshots/{k}/dic.svg"
+        cases.append(G(op, f"/v1/jobs/{c}/snapshots/0/dic.svg", expect=200))
+        for field in ["gamma_max", "exx", "ezz", "exz", "ux", "uz"]:
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/1/dic.svg?field={field}&step=0.003", expect=200))
+        for v in ["bogus", "severity", ""]:
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/0/dic.svg?field={v}", expect=400, bad_param="field",
+                           what="bad field"))
+        for v in ["0", "-0.5", "x"]:
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/0/dic.svg?step={v}", expect=400, bad_param="step",
+                           what="bad grid step"))
+        cases.append(G(op, f"/v1/jobs/{c}/snapshots/0/dic.svg?step=1e-9", expect=400, bad_param="step", depends=True,
+                       what="a grid over 250,000 nodes"))
+        for k in [str(f["snapshots"]), "9" * 25]:
+            cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}/dic.svg", expect=404, what="no such snapshot"))
+        cases.append(G(op, f"/v1/jobs/{d}/snapshots/0/dic.svg", expect=404, what="two cubes take no snapshot"))
         # Archives.
         for job in (d, c):
             cases.append(G("GET /v1/jobs/{id}/archive", f"/v1/jobs/{job}/archive", expect=200))

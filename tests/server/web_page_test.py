@@ -229,8 +229,23 @@ class WebPageTest(unittest.TestCase):
                                            "document.querySelector('#snapshot svg').textContent.includes('layer 0')"))
         self.assertEqual(self.browser.js("document.querySelectorAll('#snapshot svg polygon.grain').length"), 18)
         links = self.browser.js("Array.from(document.querySelectorAll('.downloads a')).map(a => a.textContent)")
-        for name in ("curve.csv", "everything (.tar)", "dump", "vtk"):
+        for name in ("curve.csv", "everything (.tar)", "dump", "vtk", "dic_csv", "dic_vtk"):
             self.assertIn(name, links)
+        # The snapshot's slip bands as a table (the job's summary has them) and the front face's DIC-like map, one
+        # square per measured node; a coarser grid step redraws it with fewer.
+        summary = self.daemon.call("GET", f"/v1/jobs/{job}")["summary"]
+        bands = summary["snapshots"][-1]["slip_bands"]
+        self.assertIn("Slip bands", self.browser.until("document.getElementById('slip-bands').textContent"))
+        self.assertEqual(self.browser.js("document.querySelectorAll('#slip-band-table tr.slip-band').length"), len(bands))
+        fine = self.browser.until("document.querySelectorAll('#dic svg g.dic-map rect').length")
+        self.assertGreater(fine, 18)
+        self.assertIn("max shear strain", self.browser.js("document.querySelector('#dic svg').textContent"))
+        self.browser.js("""(() => { const s = document.getElementById('dic-step'); s.value = '0.004';
+                           const f = document.getElementById('dic-field'); f.value = 'ezz';
+                           s.dispatchEvent(new Event('change')); })()""")
+        self.assertTrue(self.browser.until("document.querySelector('#dic svg') && "
+                                           "document.querySelector('#dic svg').textContent.includes('axial strain Ezz')"))
+        self.assertLess(self.browser.js("document.querySelectorAll('#dic svg g.dic-map rect').length"), fine)
 
     def test_a_sweep_page_overlays_its_curves_and_tabulates_its_jobs(self):
         sweep = self.daemon.call("POST", "/v1/sweeps", {"spec": TWO_CUBE, "vary": {"material.friction": [0.1, 0.3]},
