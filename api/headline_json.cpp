@@ -31,22 +31,29 @@ json headline_json(const Headline& h) {
                       {"at_x", text_or_null(v.at_x)},
                       {"at_y", text_or_null(v.at_y)}});
   for (const SummaryTable& t : h.tables) tables.push_back({{"key", t.key}, {"title", t.title}});
-  return {{"x", x},           {"y", axis_json(h.y)}, {"series", series},
-          {"values", values}, {"tables", tables},    {"note", text_or_null(h.note)}};
+  const json events = h.events.list ? json{{"list", h.events.list}, {"x", h.events.x}, {"label", h.events.label}}
+                                    : json(nullptr);
+  return {{"x", x},           {"y", axis_json(h.y)}, {"series", series},           {"values", values},
+          {"tables", tables}, {"note", text_or_null(h.note)}, {"events", events}};
 }
 
-std::optional<double> number_at_path(const json& j, const std::string& dotted) {
+const json* value_at_path(const json& j, const std::string& dotted) {
   const json* at = &j;
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = dotted.find('.', start);
     const std::string key = dotted.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (!at->is_object() || !at->contains(key)) return std::nullopt;
+    if (!at->is_object() || !at->contains(key)) return nullptr;
     at = &(*at)[key];
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
-  if (!at->is_number()) return std::nullopt;
+  return at;
+}
+
+std::optional<double> number_at_path(const json& j, const std::string& dotted) {
+  const json* at = value_at_path(j, dotted);
+  if (!at || !at->is_number()) return std::nullopt;
   return at->get<double>();
 }
 

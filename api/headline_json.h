@@ -16,6 +16,8 @@ namespace granulab::api {
 nlohmann::json headline_json(const Headline& h);
 /// The value at a dotted path of a JSON object ("first_yield.strain"), if it is a number.
 std::optional<double> number_at_path(const nlohmann::json& j, const std::string& dotted);
+/// The value at a dotted path of objects, or nullptr.
+const nlohmann::json* value_at_path(const nlohmann::json& j, const std::string& dotted);
 /// The divisor of a scale for a job of `spec` (the normalised spec): its per_field's value, 1 without one;
 /// nullopt when the spec lacks it or it is not positive.
 std::optional<double> scale_divisor(const Scale& s, const nlohmann::json& spec);

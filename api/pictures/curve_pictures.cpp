@@ -161,6 +161,16 @@ LinePlot job_curve_plot(const json& spec, const json& curve, const json& summary
     if (m.on_curve) m.x = at_x.value_or(0) * x.factor, m.y = at_y.value_or(0) * y_factor;
     plot.markers.push_back(m);
   }
+  // The run's events (a crystal's stick-slip drops) as ticks along the top, at their x.
+  if (h.events.list) {
+    const json* list = api::value_at_path(summary, h.events.list);
+    if (list && list->is_array()) {
+      for (const json& e : *list)
+        if (e.is_object() && e.contains(h.events.x) && e[h.events.x].is_number())
+          plot.events.push_back(e[h.events.x].get<double>() * x.factor);
+      if (!plot.events.empty()) plot.events_label = std::string(h.events.label) + " (" + std::to_string(plot.events.size()) + ")";
+    }
+  }
   return plot;
 }
 

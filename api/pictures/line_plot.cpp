@@ -38,6 +38,7 @@ std::string line_plot_svg(const LinePlot& plot) {
   std::size_t in_legend = 0, longest = 0;
   for (const Series& s : plot.series) in_legend += !s.label.empty(), longest = std::max(longest, s.label.size());
   for (const Marker& m : plot.markers) in_legend += 1, longest = std::max(longest, m.label.size() + 4);
+  if (!plot.events_label.empty()) in_legend += 1, longest = std::max(longest, plot.events_label.size());
   // About 7 px per character of 12 px text, within limits.
   const double legend_width = std::clamp(50.0 + 7.0 * double(longest), 120.0, 360.0);
   const double left = 78, right = in_legend ? legend_width : 24, top = plot.note.empty() ? 40 : 56, bottom = 56;
@@ -121,6 +122,15 @@ std::string line_plot_svg(const LinePlot& plot) {
            (s.dashed ? " stroke-dasharray=\"7 5\"" : "") + " points=\"" + points + "\"/>\n";
   }
   svg += "</g>\n";
+  // Events: ticks hanging from the top edge (a rug), so a hundred of them stay readable.
+  if (!plot.events.empty()) {
+    svg += "<g class=\"events\" stroke=\"#7b3294\" stroke-width=\"1.2\">\n";
+    for (double x : plot.events)
+      if (std::isfinite(x) && x >= xr.lo && x <= xr.hi)
+        svg += "<line class=\"event\" x1=\"" + num(X(x), 6) + "\" y1=\"" + num(top) + "\" x2=\"" + num(X(x), 6) +
+               "\" y2=\"" + num(top + 12) + "\"/>\n";
+    svg += "</g>\n";
+  }
   // Markers: a circle and its number on the curve; the words are in the legend.
   for (std::size_t k = 0; k < plot.markers.size(); ++k) {
     const Marker& m = plot.markers[k];
@@ -152,6 +162,12 @@ std::string line_plot_svg(const LinePlot& plot) {
              num(cx) + "\" y=\"" + num(y + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
              std::to_string(k + 1) + "</text><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" +
              xml_escape(m.label) + "</text>\n";
+      y += 18;
+    }
+    if (!plot.events_label.empty()) {
+      svg += "<line x1=\"" + num(left + pw + 25) + "\" y1=\"" + num(y - 6) + "\" x2=\"" + num(left + pw + 25) +
+             "\" y2=\"" + num(y + 6) + "\" stroke=\"#7b3294\" stroke-width=\"1.2\"/><text x=\"" + num(left + pw + 44) +
+             "\" y=\"" + num(y + 4) + "\">" + xml_escape(plot.events_label) + "</text>\n";
       y += 18;
     }
     svg += "</g>\n";

@@ -29,6 +29,9 @@ struct LinePlot {
   std::vector<Series> series;
   std::vector<Marker> markers;
   std::string note;  ///< a line under the title (what was left out, say)
+  /// Events drawn as short ticks hanging from the top of the plot at their x, in the legend as `events_label`.
+  std::vector<double> events;
+  std::string events_label;
   int width = 760, height = 480;
 };
 

@@ -57,6 +57,14 @@ struct ReferenceCurve {
   std::vector<double> y_natural, y_si;  ///< in the y axis' natural and SI units (already scaled)
 };
 
+/// Events of a run to mark along the curve's x axis: each element of the summary list `list` (a dotted path) at
+/// its field `x` (in the x column's stored values), e.g. a crystal's stick-slip events.
+struct EventMarks {
+  const char* list = nullptr;
+  const char* x = nullptr;
+  const char* label = nullptr;
+};
+
 struct Headline {
   const char* x_column;
   Axis x;
@@ -66,6 +74,7 @@ struct Headline {
   std::vector<SummaryTable> tables;
   std::vector<ReferenceCurve> references;
   const char* note = nullptr;  ///< a line the picture adds, e.g. what a series includes
+  EventMarks events;          ///< none by default
 };
 
 }  // namespace granulab

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "api/pictures/curve_pictures.h"
 #include "api/pictures/line_plot.h"
 #include "api/pictures/section_picture.h"
 #include "api/pictures/svg_text.h"
@@ -239,6 +240,27 @@ TEST(SvgText, EscapesMarkupAndDropsWhatXmlCannotHold) {
             "ab\xef\xbf\xbd");  // U+FFFF, U+FFFE, a surrogate: not XML
   EXPECT_EQ(num(NAN), "0");
   EXPECT_EQ(num(1.23456789, 3), "1.23");
+}
+
+// A crystal's stick-slip events (its headline's `events`) are ticks along the top of its curve, at their strains.
+TEST(CurvePicture, MarksTheRunsEventsAtTheirStrains) {
+  const nlohmann::json spec = {{"experiment", "crystal_compression"}};
+  nlohmann::json curve = {{"columns", {"strain", "stress_top", "stress_bottom", "deviator"}},
+                          {"strain", {0.0, 0.01, 0.02}},
+                          {"stress_top", {6e4, 3e5, 3.2e5}},
+                          {"stress_bottom", {6e4, 3e5, 3.2e5}},
+                          {"deviator", {0.0, 2.4e5, 2.6e5}}};
+  const nlohmann::json summary = {{"stress_drops", {{"events", {{{"strain", 0.005}}, {{"strain", 0.015}}}}}}};
+  const LinePlot plot = job_curve_plot(spec, curve, summary, CurveChoice{});
+  ASSERT_EQ(plot.events.size(), 2u);
+  EXPECT_DOUBLE_EQ(plot.events[0], 0.5);  // in % of strain, as the axis
+  EXPECT_DOUBLE_EQ(plot.events[1], 1.5);
+  EXPECT_EQ(plot.events_label, "stress drops (2)");
+  const std::string svg = line_plot_svg(plot);
+  EXPECT_EQ(count(svg, "class=\"event\""), 2u);
+  EXPECT_NE(svg.find("stress drops (2)"), std::string::npos);
+  // Without a summary (a running job) there is nothing to mark.
+  EXPECT_TRUE(job_curve_plot(spec, curve, nlohmann::json::object(), CurveChoice{}).events.empty());
 }
 
 TEST(LinePlot, ThinsLongSeriesButKeepsTheLatestPointAndSkipsNaN) {

@@ -131,6 +131,7 @@ void CrystalCompression::confine_and_begin(Run& run) {
   // Reference state for strains, displacements and lateral strains.
   take_reference();
   run.at.compressing = true;
+  run.at.drops.threshold = params_.stress_drop_threshold * params_.confining_pressure;
   record(0, run);
   take_due_snapshots(run);
   run.at.first = sample_.world().steps();
@@ -211,6 +212,20 @@ void CrystalCompression::record_due_rows(Run& run, const LoadSegment& segment) {
                              " Pa, when the platen had released the sample to a strain of -0.05");
 }
 
+// Stick-slip events (stress_drops.h): the deviator, every step the top platen compresses at more than half its
+// speed (the ramps at the start and before a turn relax the stress without any slip: no events there).
+void CrystalCompression::track_stress_drops(Run& run) {
+  const World& world = sample_.world();
+  const Wall& top = world.walls()[sample_.top_wall()];
+  const double speed = top.velocity.dot(top.normal);  // along its inward normal: compressing
+  StressDrop d;
+  if (run.r.segments.back().direction > 0 && speed > 0.5 * run.speed) {
+    if (run.at.drops.add({world.steps(), world.time(), strain_now(), deviator()}, d)) run.r.stress_drops.push_back(d);
+  } else if (run.at.drops.close(d)) {
+    run.r.stress_drops.push_back(d);
+  }
+}
+
 void CrystalCompression::run_segment(Run& run) {
   Position& at = run.at;
   const LoadSegment& segment = run.schedule.program[at.segment];
@@ -221,6 +236,7 @@ void CrystalCompression::run_segment(Run& run) {
     drive_platen(run, segment, last);
     sample_.step(at.first);
     StageTimer recording(world.stage_times().record);
+    track_stress_drops(run);
     take_due_snapshots(run);
     record_due_rows(run, segment);
     // Every step (milliseconds to a second on a crystal; the sink's calls cost a clock read): a cancel or
@@ -232,6 +248,7 @@ void CrystalCompression::run_segment(Run& run) {
   }
   if (!run.schedule.monotonic && at.row_step != world.steps())
     record(strain_now(), run), at.row_travel = at.segment_travel + std::abs(strain_now() - at.segment_strain);
+  if (StressDrop d; at.drops.close(d)) run.r.stress_drops.push_back(d);
   SegmentRecord& current = run.r.segments.back();
   current.last_row = run.r.curve.size() - 1;
   current.steps = world.steps() - at.segment_first;

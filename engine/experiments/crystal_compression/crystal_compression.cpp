@@ -116,6 +116,7 @@ void CrystalCompression::state(Archive& a, Self& self, At& at, Result& r) {
   a.value(r.confinement);
   a.values(r.curve);
   a.values(r.segments);
+  a.values(r.stress_drops);
   snapshot_marks(a, r.snapshots);
   a.values(self.ref_.position);
   a.values(self.ref_.orientation);

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/analysis/stress_drops.h"
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
 #include "engine/crystal/crystal_snapshot.h"
@@ -34,6 +35,7 @@ struct CrystalParams : CrystalSampleParams {
   std::vector<double> snapshot_strains{0.0, 0.01, 0.02, 0.04, 0.08};  ///< axial strains (-)
   std::vector<LoadSegment> program;                                   ///< empty: one compression to max_strain
   Confinement confinement = Confinement::membrane;
+  double stress_drop_threshold = 0.02;  ///< the deviator drop a stick-slip event needs, over p0 (-)
 };
 
 struct CrystalRow {
@@ -67,6 +69,7 @@ struct CrystalResult {
   double cross_section = 0;             ///< lattice cross-section normal to z (m^2)
   std::size_t knocked_out = 0;          ///< grains removed (-)
   std::uint64_t compression_steps = 0;  ///< time steps of the compression phase (-)
+  std::vector<StressDrop> stress_drops;  ///< the deviator's drops while the platen compressed (stress_drops.h)
 };
 
 
@@ -118,6 +121,7 @@ class CrystalCompression {
     double segment_strain = 0, segment_travel = 0, row_travel = 0;
     std::uint64_t row_step = 0;      ///< world step of the last row
     std::uint64_t segment_rows = 0;  ///< rows the deviator rule added in this segment
+    StressDropTracker drops;         ///< the stick-slip detector between steps
   };
   struct Schedule;       // where rows and snapshots fall (compression_run.cpp)
   struct ProgressShare;  // the progress bar shared between confinement and loading
@@ -134,6 +138,7 @@ class CrystalCompression {
   bool segment_done(const Run& run, const LoadSegment& segment) const;
   void drive_platen(const Run& run, const LoadSegment& segment, bool last);
   void record_due_rows(Run& run, const LoadSegment& segment);
+  void track_stress_drops(Run& run);
   void run_segment(Run& run);
   void record(double strain, Run& run);
   void take_due_snapshots(Run& run);

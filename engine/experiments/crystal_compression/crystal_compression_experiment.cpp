@@ -7,6 +7,7 @@
 #include <string>
 
 #include "engine/analysis/loading_cycles.h"
+#include "engine/analysis/stress_drops.h"
 #include "engine/crystal/sample_parameters.h"
 #include "engine/framework/energy_report.h"
 #include "engine/experiments/crystal_compression/quasi_static_quality.h"
@@ -60,6 +61,11 @@ struct CrystalSummary : ExperimentResult {
     }
     w.end_list();
     write_program(w);
+    double loading = 0;  // the strain the platen compressed over, all segments
+    for (const SegmentRecord& s : r.segments)
+      if (s.direction > 0 && s.last_row < r.curve.size())
+        loading += r.curve[s.last_row].strain - r.curve[s.first_row].strain;
+    write_stress_drops(w, r.stress_drops, params.stress_drop_threshold * p0, loading);
     if (r.fixed.on) {
       // Per face, the area the fixed forces were computed from and their sum over it: p0 x area.
       static const char* const faces[6] = {"x_plus", "x_minus", "y_plus", "y_minus", "z_plus", "z_minus"};
@@ -221,6 +227,9 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   p.snapshot_strains = reachable;
   v.numbers("snapshot_strains", p.snapshot_strains, {0, p.max_strain, false, "loading.max_strain"}, 1000, "-",
             "axial strains at which snapshots are taken (at most loading.max_strain)");
+  v.number("stress_drop_threshold", p.stress_drop_threshold, {0, 1, true}, "-",
+           "a stick-slip event is a drop of the deviator by at least this times p0 while the platen compresses "
+           "(summary stress_drops; docs/model.md, \"Stick-slip events\")");
 }
 
 std::optional<YieldEstimate> CrystalCompressionExperiment::yield_estimate() const {
@@ -239,6 +248,7 @@ Headline CrystalCompressionExperiment::headline() const {
           {{"segments", "loading segments"}, {"cycles", "load-unload cycles"}},
           {},
           "platen stresses include p0"};
+  h.events = {"stress_drops.events", "strain", "stress drops"};
   // The rigid-grain estimate of the first yield (dashed, in the deviator's colour), when there is one.
   if (const auto e = yield_estimate(); e && e->found) {
     const double deviator = e->axial_over_p0 - 1, p0 = params.confining_pressure;

@@ -68,6 +68,17 @@ TEST(EnergyBalance, ClosesOverACompressionTo2PercentAndItsUnloading) {
   EXPECT_GT(peak.energy.platen_work, 0);
   EXPECT_GT(end.friction_dissipation, end.damping_dissipation);
   EXPECT_GT(end.friction_dissipation + end.damping_dissipation, 0.5 * (end.platen_work + end.confinement_work));
+
+  // The run's stick-slip events (stress_drops.h) lie on the loading, each at least the threshold deep.
+  std::printf("%zu stress drops\n", r.stress_drops.size());
+  EXPECT_FALSE(r.stress_drops.empty());
+  for (const StressDrop& d : r.stress_drops) {
+    EXPECT_GE(d.size, p.stress_drop_threshold * p.confining_pressure);
+    EXPECT_GT(d.strain, 0);
+    EXPECT_LE(d.end_strain, 0.02 + 1e-6);
+    EXPECT_GE(d.end_strain, d.strain);
+    EXPECT_GT(d.steps, 0u);
+  }
 }
 
 TEST(EnergyBalance, NoFrictionLosesNothingToSlidingAndNoDampingNothingToDashpots) {
