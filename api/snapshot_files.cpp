@@ -56,7 +56,7 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
   grains["qz"] = column(n, [&](std::size_t i) { return s.orientation[i].z(); });
   grains["penetration"] = s.penetration;
   grains["penetration_ratio"] = s.penetration_ratio;
-  grains["max_shear_strain"] = s.max_shear_strain;
+  grains["gamma_max"] = s.gamma_max;
   grains["equivalent_strain"] = s.equivalent_strain;
   if (s.d2min.size() == n) grains["d2min"] = s.d2min;
   if (s.misorientation.size() == n && s.misorientation_axis.size() == n) {
@@ -147,7 +147,8 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
   }
   s.penetration = numbers(g, "penetration", n);
   s.penetration_ratio = numbers(g, "penetration_ratio", n);
-  s.max_shear_strain = numbers(g, "max_shear_strain", n);
+  // Stored before the field had one name everywhere: "max_shear_strain".
+  s.gamma_max = numbers(g, g.contains("gamma_max") ? "gamma_max" : "max_shear_strain", n);
   s.equivalent_strain = numbers(g, "equivalent_strain", n);
   // Snapshots stored before D^2_min and the misorientation existed have neither: they stay empty.
   if (g.contains("d2min")) s.d2min = numbers(g, "d2min", n);
@@ -183,7 +184,7 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
   const double radius = 0.5 * neighbour_distance(s);
   out +=
       "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
-      "max_shear_strain equivalent_strain d2min misorientation misorientation_axis_x misorientation_axis_y "
+      "gamma_max equivalent_strain d2min misorientation misorientation_axis_x misorientation_axis_y "
       "misorientation_axis_z\n";
   char line[640];
   const double nan = std::numeric_limits<double>::quiet_NaN();  // a field the stored snapshot predates
@@ -197,7 +198,7 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
                   "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g "
                   "%.6g\n",
                   value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(),
-                  s.penetration[i], s.penetration_ratio[i], s.max_shear_strain[i], s.equivalent_strain[i], d2, angle,
+                  s.penetration[i], s.penetration_ratio[i], s.gamma_max[i], s.equivalent_strain[i], d2, angle,
                   axis.x(), axis.y(), axis.z());
     out += line;
   }
@@ -222,7 +223,7 @@ std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   };
   scalars("penetration", s.penetration);
   scalars("penetration_ratio", s.penetration_ratio);
-  scalars("max_shear_strain", s.max_shear_strain);
+  scalars("gamma_max", s.gamma_max);
   scalars("equivalent_strain", s.equivalent_strain);
   if (s.d2min.size() == n) scalars("d2min", s.d2min);
   if (s.misorientation.size() == n && s.misorientation_axis.size() == n) {

@@ -2,7 +2,7 @@
 """Map one crystal snapshot in the x-z plane (the compression axis is z), coloured by a per-grain field.
 
 usage: /usr/bin/python3 examples/plot_snapshot.py OUT_DIR/snapshots/snapshot_K.json
-           [--field equivalent_strain|max_shear_strain|penetration_ratio] [--layer N] [-o map.png]
+           [--field equivalent_strain|gamma_max|penetration_ratio] [--layer N] [-o map.png]
 
 Every grain is a dot at its current (x, z); --layer keeps one {111} layer (0 = the front face, y lowest), found
 from the reference positions. The server draws the same section without matplotlib: GET /v1/jobs/ID/snapshots/K.svg.
@@ -16,7 +16,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("snapshot")
     ap.add_argument("--field", default="equivalent_strain",
-                    choices=["equivalent_strain", "max_shear_strain", "penetration_ratio"])
+                    choices=["equivalent_strain", "gamma_max", "penetration_ratio"])
     ap.add_argument("--layer", type=int)
     ap.add_argument("-o", "--output", default="snapshot.png")
     args = ap.parse_args()

@@ -50,7 +50,7 @@ def draw_pictures(port, env, sweep_id, job_30kpa, folder):
     os.makedirs(folder, exist_ok=True)
     fetch(port, "/v1/sweeps/%d/curves.svg" % sweep_id, os.path.join(folder, "sweep_pressures.svg"))
     fetch(port, "/v1/jobs/%d/curve.svg" % job_30kpa, os.path.join(folder, "crystal_curve.svg"))
-    for field in ("equivalent_strain", "severity"):
+    for field in ("equivalent_strain", "penetration_ratio"):
         fetch(port, "/v1/jobs/%d/snapshots/2.svg?field=%s" % (job_30kpa, field),
               os.path.join(folder, "crystal_%s.svg" % field))
     job = subprocess.run([GRANULAB, "submit", os.path.join(ROOT, "examples", "two_cube_f03.json")], env=env,

@@ -24,7 +24,7 @@ struct FieldInfo {
 
 FieldInfo info(Field f) {
   switch (f) {
-    case Field::severity: return {"severity", "contact severity Δ/Δ̄ (-)", 1};
+    case Field::penetration_ratio: return {"penetration_ratio", "contact penetration Δ/Δ̄ (-)", 1};
     case Field::gamma_max: return {"gamma_max", "max shear strain γmax (-)", 1};
     case Field::equivalent_strain: return {"equivalent_strain", "equivalent strain (-)", 1};
     case Field::displacement: return {"displacement", "displacement (mm)", 1e3};
@@ -36,8 +36,8 @@ FieldInfo info(Field f) {
 
 double field_value(const GrainSnapshot& s, Field f, std::size_t i) {
   switch (f) {
-    case Field::severity: return s.penetration_ratio[i];
-    case Field::gamma_max: return s.max_shear_strain[i];
+    case Field::penetration_ratio: return s.penetration_ratio[i];
+    case Field::gamma_max: return s.gamma_max[i];
     case Field::equivalent_strain: return s.equivalent_strain[i];
     case Field::displacement: return s.displacement[i].norm();
     // Over the squared neighbour distance l (taken where the picture starts): comparable across grain sizes.
@@ -124,7 +124,7 @@ std::vector<std::array<double, 2>> cross_section(const std::vector<std::array<Ve
 }  // namespace
 
 std::optional<Field> parse_field(const std::string& name) {
-  for (Field f : {Field::severity, Field::gamma_max, Field::equivalent_strain, Field::displacement, Field::d2min,
+  for (Field f : {Field::penetration_ratio, Field::gamma_max, Field::equivalent_strain, Field::displacement, Field::d2min,
                  Field::misorientation})
     if (name == info(f).name) return f;
   return std::nullopt;

@@ -15,9 +15,9 @@
 
 namespace granulab::pictures {
 
-enum class Field { severity, gamma_max, equivalent_strain, displacement, d2min, misorientation };
+enum class Field { penetration_ratio, gamma_max, equivalent_strain, displacement, d2min, misorientation };
 
-/// "severity", "gamma_max", "equivalent_strain", "displacement", "d2min" or "misorientation"; nullopt for anything
+/// "penetration_ratio", "gamma_max", "equivalent_strain", "displacement", "d2min" or "misorientation"; nullopt for anything
 /// else.
 std::optional<Field> parse_field(const std::string& name);
 /// The layers normal to y of the snapshot ({111} for the paper's crystal) (at the reference state), 0 = the front face (lowest y).

@@ -45,7 +45,7 @@ struct GrainSnapshot {
   std::vector<Quat> orientation;          ///< body -> lab rotation (unit quaternion)
   std::vector<double> penetration;        ///< Delta, sum of the sphere overlaps with other grains (m)
   std::vector<double> penetration_ratio;  ///< Delta / mean Delta over the grains (-)
-  std::vector<double> max_shear_strain;   ///< gamma_max = (e1 - e3)/2 of the local Green-Lagrange strain (-)
+  std::vector<double> gamma_max;          ///< gamma_max = (e1 - e3)/2 of the local Green-Lagrange strain (-)
   std::vector<double> equivalent_strain;  ///< von Mises equivalent of the local Green-Lagrange strain (-)
   // Snapshots stored before these existed have them empty.
   std::vector<double> d2min;              ///< Falk & Langer's D^2_min of that fit: its non-affine residual (m^2)

@@ -34,7 +34,7 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
   mean /= s.penetration.size();
   for (double d : s.penetration) s.penetration_ratio.push_back(mean > 0 ? d / mean : 0);
   for (const LocalStrain& e : local_strains(ref.position, b.position, ref.interfaces)) {
-    s.max_shear_strain.push_back(e.max_shear);
+    s.gamma_max.push_back(e.max_shear);
     s.equivalent_strain.push_back(e.equivalent);
     s.d2min.push_back(e.d2min);
   }

@@ -63,7 +63,7 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
         if (!field)
           return error(
               res, 400, "invalid_value",
-              "'field' must be one of: severity, gamma_max, equivalent_strain, displacement, d2min, misorientation, got '" +
+              "'field' must be one of: penetration_ratio, gamma_max, equivalent_strain, displacement, d2min, misorientation, got '" +
                   field_name + "'",
               "field");
         std::optional<int> layer;

@@ -198,7 +198,7 @@ async function jobView(id) {
   const snapshotPicture = el("div", { class: "picture", id: "snapshot" });
   const snapshotSelect = el("select", { id: "snapshot-index" });
   const fieldSelect = el("select", { id: "snapshot-field" },
-    ["equivalent_strain", "gamma_max", "severity", "displacement", "d2min", "misorientation"].map((f) => el("option", { value: f }, f)));
+    ["equivalent_strain", "gamma_max", "penetration_ratio", "displacement", "d2min", "misorientation"].map((f) => el("option", { value: f }, f)));
   const sliceInput = el("input", { id: "snapshot-slice", type: "number", min: 0, placeholder: "middle", style: "width:6em" });
   const snapshotDownloads = el("span", { class: "downloads" });
   // The snapshot's slip bands (summary or snapshot JSON) and its front face as DIC would see it.

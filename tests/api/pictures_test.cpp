@@ -38,7 +38,7 @@ GrainSnapshot reference_crystal(int grains_x = 4, int rows_z = 6, int layers_y =
     s.displacement.push_back(Vec3::Zero());
     s.orientation.push_back(lattice.orientation);
     const double v = double(s.id.size());
-    s.penetration.push_back(v), s.penetration_ratio.push_back(v), s.max_shear_strain.push_back(v),
+    s.penetration.push_back(v), s.penetration_ratio.push_back(v), s.gamma_max.push_back(v),
         s.equivalent_strain.push_back(v);
   }
   const double d = kSize / std::sqrt(2.0);
@@ -91,7 +91,7 @@ TEST(SectionPicture, EveryGrainOfTheLayerIsAHexagonOfTheLayersVoronoiArea) {
   const GrainSnapshot s = reference_crystal();
   ASSERT_EQ(layer_count(s), 3);
   for (int layer : {0, 1, 2}) {
-    const std::vector<Polygon> grains = grains_of(section_svg(s, Field::severity, layer, "t"));
+    const std::vector<Polygon> grains = grains_of(section_svg(s, Field::penetration_ratio, layer, "t"));
     ASSERT_EQ(grains.size(), 24u) << "layer " << layer;  // 4 x 6 grains per {111} layer
     // The in-layer neighbour distance in pixels, from the hexagons' centres; the Voronoi cell of a
     // triangular lattice of spacing d has area sqrt(3)/2 d^2, so each hexagon has exactly that area:
@@ -109,13 +109,13 @@ TEST(SectionPicture, EveryGrainOfTheLayerIsAHexagonOfTheLayersVoronoiArea) {
 
 TEST(SectionPicture, AGrainTurnedAboutTheLayerNormalIsDrawnTurned) {
   GrainSnapshot s = reference_crystal();
-  const std::string before = section_svg(s, Field::severity, 1, "t");
+  const std::string before = section_svg(s, Field::penetration_ratio, 1, "t");
   // Turn every grain of the crystal by 30 degrees about lab y (the {111} normal): the hexagons turn by 30
   // degrees, which (for a hexagon) moves each vertex to the middle of an old edge: areas unchanged,
   // vertex angles shifted by 30 degrees.
   const Quat turn(Eigen::AngleAxisd(M_PI / 6, Vec3::UnitY()));
   for (Quat& q : s.orientation) q = turn * q;
-  const auto a = grains_of(before), b = grains_of(section_svg(s, Field::severity, 1, "t"));
+  const auto a = grains_of(before), b = grains_of(section_svg(s, Field::penetration_ratio, 1, "t"));
   ASSERT_EQ(a.size(), b.size());
   auto angles = [](const Polygon& p) {
     double cx = 0, cy = 0;
@@ -140,7 +140,7 @@ TEST(SectionPicture, OnlyInterfacesOfTheLayerSlidingOverTwiceTheMeanAreDrawn) {
   GrainSnapshot s = reference_crystal();
   const double d = kSize / std::sqrt(2.0);
   const auto lines = [&](int layer) {
-    const std::string svg = section_svg(s, Field::severity, layer, "t");
+    const std::string svg = section_svg(s, Field::penetration_ratio, layer, "t");
     const auto begin = svg.find("<g class=\"sliding\""), end = svg.find("</g>", begin);
     return count(svg.substr(begin, end - begin), "<line");
   };
@@ -176,11 +176,11 @@ TEST(SectionPicture, SlipBandsAreDrawnAsTheirTracesOnTheLayer) {
   SlipBand parallel;
   parallel.normal[1] = 1;
   s.slip_bands = {inclined, parallel};
-  const std::string svg = section_svg(s, Field::severity, 1, "t");
+  const std::string svg = section_svg(s, Field::penetration_ratio, 1, "t");
   EXPECT_EQ(count(svg, "<line class=\"slip-band\""), 1u);
   EXPECT_NE(svg.find(">(1 1 1)</text>"), std::string::npos);
   s.slip_bands.clear();
-  EXPECT_EQ(count(section_svg(s, Field::severity, 1, "t"), "<line class=\"slip-band\""), 0u);
+  EXPECT_EQ(count(section_svg(s, Field::penetration_ratio, 1, "t"), "<line class=\"slip-band\""), 0u);
   EXPECT_THROW(section_svg(s, Field::d2min, 1, "t"), std::invalid_argument);
   EXPECT_THROW(section_svg(s, Field::misorientation, 1, "t"), std::invalid_argument);
   s.d2min.assign(s.id.size(), 1e-10);
@@ -190,7 +190,7 @@ TEST(SectionPicture, SlipBandsAreDrawnAsTheirTracesOnTheLayer) {
 TEST(SectionPicture, AWideFlatLayerStillHasItsColourBarAndALongTitleIsCut) {
   const GrainSnapshot s = reference_crystal(60, 1, 3);
   ASSERT_EQ(layer_count(s), 3);
-  const std::string svg = section_svg(s, Field::severity, 1, std::string(100000, 'x'));
+  const std::string svg = section_svg(s, Field::penetration_ratio, 1, std::string(100000, 'x'));
   EXPECT_EQ(svg.find("height=\"-"), std::string::npos) << "a negative height";
   const auto width = std::stod(svg.substr(svg.find("width=\"") + 7));
   EXPECT_LE(width, 1200.0);

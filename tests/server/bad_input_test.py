@@ -1095,14 +1095,14 @@ class BadInputTest(unittest.TestCase):
         cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg"))
         if last > 0:
             cases.append(svg(f"/v1/jobs/{c}/snapshots/{last}.svg"))
-        for f in ["severity", "gamma_max", "equivalent_strain", "displacement"]:
+        for f in ["penetration_ratio", "gamma_max", "equivalent_strain", "displacement"]:
             cases.append(svg(f"/v1/jobs/{c}/snapshots/{last}.svg?field={f}"))
             cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg?field={f}&slice={layers - 1}"))
         for k in range(layers):
             cases.append(svg(f"/v1/jobs/{c}/snapshots/0.svg?slice={k}"))
         for job in fx["nasty_jobs"]:  # the second: U+FFFF in its label
-            cases.append(svg(f"/v1/jobs/{job}/snapshots/0.svg?field=severity"))
-        for v in ["bogus", "%FF", "", "SEVERITY", "severity%00", "severity,gamma_max", "severity%20", "%20severity",
+            cases.append(svg(f"/v1/jobs/{job}/snapshots/0.svg?field=penetration_ratio"))
+        for v in ["bogus", "%FF", "", "severity", "PENETRATION_RATIO", "penetration_ratio%00", "penetration_ratio,gamma_max", "penetration_ratio%20", "%20penetration_ratio",
                   "gamma-max", "0", "displacement%FF", "x" * 5000]:
             cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field={v}", 400, field="field"))
         # A slice: an integer 0..2^20 (else a 400 from the parameter check), and a layer of the crystal (else a 400
@@ -1112,13 +1112,13 @@ class BadInputTest(unittest.TestCase):
             cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice={v}", 400, field="slice"))
         for v in [layers, layers + 1, 1000, 1 << 20]:
             cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice={v}", 400, field="slice"))
-        cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field=severity&slice={layers}", 400, field="slice"))
+        cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field=penetration_ratio&slice={layers}", 400, field="slice"))
         cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?field=bogus&slice={layers - 1}", 400, field="field"))
         cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?slice=-0", (200, 400), field="slice", check=svg_parses))
-        for q in ["slice=0&slice=0", "field=severity&field=severity", "slice=0&slice=99"]:
+        for q in ["slice=0&slice=0", "field=penetration_ratio&field=penetration_ratio", "slice=0&slice=99"]:
             cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?{q}", (200, 400), check=svg_parses))
-        for q, field in [("format=json", "format"), ("junk=%FF", "junk"), ("field=severity&layer=0", "layer"),
-                         ("Field=severity", "Field"), ("slices=0", "slices")]:
+        for q, field in [("format=json", "format"), ("junk=%FF", "junk"), ("field=penetration_ratio&layer=0", "layer"),
+                         ("Field=penetration_ratio", "Field"), ("slices=0", "slices")]:
             cases.append(get(f"/v1/jobs/{c}/snapshots/0.svg?{q}", 400, field=field, code="unknown_parameter"))
 
         # -- GET /v1/jobs/{id}/snapshots/{k}?format= ---------------------------------------------------------------

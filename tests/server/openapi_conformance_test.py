@@ -756,7 +756,7 @@ class OpenApiConformanceTest(unittest.TestCase):
         cases.append(G(op, f"/v1/jobs/{d}/snapshots/0", expect=404, what="two cubes take no snapshot"))
         op = "GET /v1/jobs/{id}/snapshots/{k}.svg"
         cases.append(G(op, f"/v1/jobs/{c}/snapshots/0.svg", expect=200))
-        for field in ["severity", "gamma_max", "equivalent_strain", "displacement"]:
+        for field in ["penetration_ratio", "gamma_max", "equivalent_strain", "displacement"]:
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/1.svg?field={field}&slice=0", expect=200))
         for v in ["bogus", "Severity", ""]:
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/0.svg?field={v}", expect=400, bad_param="field",

@@ -52,7 +52,7 @@ CRYSTAL = {"experiment": "crystal_compression", "label": CRYSTAL_LABEL,
            "loading": {"confining_pressure": 30000, "max_strain": 0.01, "rate_number": 5e-6},
            "run": {"time_step_factor": 0.4},
            "output": {"curve_points": CURVE_POINTS, "snapshot_strains": [0, 0.01]}}
-FIELDS = ["severity", "gamma_max", "equivalent_strain", "displacement"]
+FIELDS = ["penetration_ratio", "gamma_max", "equivalent_strain", "displacement"]
 
 
 def free_port():
@@ -404,7 +404,7 @@ class ResultsEndToEndTest(unittest.TestCase):
                     if field == "displacement":
                         expected = 1e3 * math.sqrt(data["dx"][i] ** 2 + data["dy"][i] ** 2 + data["dz"][i] ** 2)
                     else:
-                        expected = data[{"severity": "penetration_ratio", "gamma_max": "max_shear_strain",
+                        expected = data[{"penetration_ratio": "penetration_ratio", "gamma_max": "gamma_max",
                                          "equivalent_strain": "equivalent_strain"}[field]][i]
                     self.assertAlmostEqual(float(p.get("data-value")), expected,
                                            delta=1e-5 * abs(expected) + 1e-12, msg=(k, field))
