@@ -1,5 +1,11 @@
 #include "engine/crystal/crystal_snapshot.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+
 #include "engine/analysis/grain_kinematics.h"
 #include "engine/analysis/slip_bands.h"
 
@@ -58,6 +64,25 @@ void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s) {
 void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s) {
   s.resize(a.value<std::uint64_t>());
   for (GrainSnapshot& g : s) a.value(g.strain), a.value(g.step), a.values(g.slip_bands);
+}
+
+std::string missed_snapshots_warning(const std::vector<double>& asked, const std::vector<GrainSnapshot>& taken,
+                                     double reached) {
+  std::string missed;
+  std::size_t count = 0;
+  for (double e : asked) {
+    const bool got = std::any_of(taken.begin(), taken.end(),
+                                 [&](const GrainSnapshot& s) { return std::abs(std::abs(s.strain) - e) <= 1e-12; });
+    if (got) continue;
+    char text[32];
+    std::snprintf(text, sizeof text, "%s%g", count ? ", " : "", e);
+    missed += text, ++count;
+  }
+  if (!count) return "";
+  char tail[96];
+  std::snprintf(tail, sizeof tail, "; the largest strain the run reached was %g", reached);
+  return "output.snapshot_strains " + missed +
+         (count == 1 ? " was" : " were") + " never reached, so no snapshot was taken there" + tail;
 }
 
 }  // namespace granulab

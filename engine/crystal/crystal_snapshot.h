@@ -26,6 +26,10 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
 /// Checkpoints keep the snapshots taken as (strain, step, slip bands) only: the summary lists no more, and the sink
 /// has the rest.
 void snapshot_marks(CheckpointWriter& a, const std::vector<GrainSnapshot>& s);
+/// The warning a run's summary gives when some of the `asked` snapshot strains were never reached (a loading program
+/// that stays below them, or a run cut short): which, and the largest strain the run reached; "" when all were taken.
+std::string missed_snapshots_warning(const std::vector<double>& asked, const std::vector<GrainSnapshot>& taken,
+                                     double reached);
 void snapshot_marks(CheckpointReader& a, std::vector<GrainSnapshot>& s);
 
 }  // namespace granulab

@@ -83,6 +83,10 @@ struct CrystalSummary : ExperimentResult {
     w.begin_list("warnings");
     write_confinement_warning(w, r.confinement);
     for (const std::string& warning : quality.warnings) w.text(nullptr, warning);
+    double reached = 0;
+    for (const CrystalRow& row : r.curve) reached = std::max(reached, row.strain);
+    if (const std::string missed = missed_snapshots_warning(params.snapshot_strains, r.snapshots, reached); !missed.empty())
+      w.text(nullptr, missed);
     w.end_list();
   }
 

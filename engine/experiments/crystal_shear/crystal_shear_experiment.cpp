@@ -134,6 +134,10 @@ struct ShearSummary : ExperimentResult {
     w.end_group();
     w.begin_list("warnings");
     write_confinement_warning(w, r.confinement);
+    double reached = 0;
+    for (const ShearRow& row : r.curve) reached = std::max(reached, std::abs(row.shear_strain));
+    if (const std::string missed = missed_snapshots_warning(params.snapshot_strains, r.snapshots, reached); !missed.empty())
+      w.text(nullptr, missed);
     if (params.rate_number > 2 * quasi_static)
       w.text(nullptr, "loading.rate_number " + std::to_string(params.rate_number) + " is " +
                           std::to_string(params.rate_number / quasi_static) +
