@@ -3,6 +3,7 @@
 #include "engine/analysis/snapshot_layers.h"
 
 #include "api/dic_files.h"
+#include "api/network_files.h"
 #include "api/summary_json.h"
 #include "engine/analysis/slip_bands.h"
 #include "engine/crystal/crystal_lattice.h"
@@ -66,11 +67,23 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
       grains[axis[k]] = column(n, [&](std::size_t i) { return s.misorientation_axis[i][k]; });
     }
   }
+  if (s.scale.size() == n) grains["scale"] = s.scale;
   nlohmann::json interfaces;
   interfaces["a"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].a)); });
   interfaces["b"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].b)); });
   interfaces["sliding"] = s.sliding;
   nlohmann::json out = {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
+  if (!s.contacts.empty()) {
+    const std::size_t m = s.contacts.size();
+    nlohmann::json c;
+    c["a"] = column(m, [&](std::size_t i) { return double(value(s.contacts[i].a)); });
+    c["b"] = column(m, [&](std::size_t i) { return double(value(s.contacts[i].b)); });
+    for (int k = 0; k < 3; ++k) {
+      const char* axis[] = {"fx", "fy", "fz"};
+      c[axis[k]] = column(m, [&](std::size_t i) { return s.contact_force[i][k]; });
+    }
+    out["contact_network"] = c;
+  }
   if (s.grain_size > 0) {
     const Quat& q = s.crystal_orientation;
     out["crystal"] = {{"grain", to_string(s.grain_shape)},
@@ -158,7 +171,18 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
                az = numbers(g, "misorientation_axis_z", n);
     for (std::size_t i = 0; i < n; ++i) s.misorientation_axis.emplace_back(ax[i], ay[i], az[i]);
   }
+  if (g.contains("scale")) s.scale = numbers(g, "scale", n);
   const nlohmann::json empty = nlohmann::json::object();
+  // The contact network; snapshots stored before it was kept have none.
+  const auto& c = j.contains("contact_network") && j["contact_network"].is_object() ? j["contact_network"] : empty;
+  if (const std::size_t m = c.contains("a") && c["a"].is_array() ? c["a"].size() : 0) {
+    const auto a = numbers(c, "a", m), b = numbers(c, "b", m);
+    const auto fx = numbers(c, "fx", m), fy = numbers(c, "fy", m), fz = numbers(c, "fz", m);
+    for (std::size_t k = 0; k < m; ++k) {
+      s.contacts.push_back({GrainId(std::uint32_t(a[k])), GrainId(std::uint32_t(b[k]))});
+      s.contact_force.emplace_back(fx[k], fy[k], fz[k]);
+    }
+  }
   const auto& f = j.contains("interfaces") && j["interfaces"].is_object() ? j["interfaces"] : empty;
   const std::size_t m = f.contains("a") && f["a"].is_array() ? f["a"].size() : 0;
   if (m) {
@@ -260,7 +284,10 @@ std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s) 
   std::vector<SnapshotFile> files = {{stem + ".json", snapshot_json(s).dump() + "\n"},
                                      {stem + ".dump", snapshot_lammps_dump(s)},
                                      {stem + "_grains.vtk", snapshot_grains_vtk(s)},
-                                     {stem + "_interfaces.vtk", snapshot_interfaces_vtk(s)}};
+                                     {stem + "_interfaces.vtk", snapshot_interfaces_vtk(s)},
+                                     {stem + "_contacts.vtk", snapshot_contacts_vtk(s)},
+                                     {stem + "_contacts.dump", snapshot_contacts_dump(s)},
+                                     {stem + "_meshes.vtk", snapshot_meshes_vtk(s)}};
   // The front face's DIC-like map at its default step (about four nodes per face grain); none without grains.
   if (!s.id.empty()) {
     const DicMap map = snapshot_dic_map(s, std::nullopt, std::size_t(-1));

@@ -31,7 +31,9 @@ struct SnapshotFile {
   std::string name, text;
 };
 /// Snapshot k in every format, as `granulab run` writes them and the server's archive holds them:
-/// snapshot_k.json, snapshot_k.dump, snapshot_k_grains.vtk, snapshot_k_interfaces.vtk, and the front face's DIC-like
+/// snapshot_k.json, snapshot_k.dump, snapshot_k_grains.vtk, snapshot_k_interfaces.vtk, the contact network
+/// snapshot_k_contacts.vtk and snapshot_k_contacts.dump, the grains' shapes snapshot_k_meshes.vtk (network_files.h),
+/// and the front face's DIC-like
 /// map at its default step, snapshot_k_dic.csv and snapshot_k_dic.vtk (api/dic_files.h).
 std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s);
 

@@ -1,7 +1,8 @@
 // The files of `granulab run SPEC --out DIR` (docs/api.md), written as the run makes them so a killed
 // run keeps what it computed: DIR/curve.csv grows a row at a time (flushed), each snapshot k is written
 // when taken as snapshots/snapshot_k.json (compact, what the server stores), .dump (LAMMPS text dump,
-// opens in OVITO), _grains.vtk and _interfaces.vtk (ParaView), _dic.csv and _dic.vtk (the front face's DIC-like
+// opens in OVITO), _grains.vtk and _interfaces.vtk (ParaView), _contacts.vtk and _contacts.dump (the contact
+// network), _meshes.vtk (the grains' polyhedra), _dic.csv and _dic.vtk (the front face's DIC-like
 // map, api/dic_files.h); summary.json, written last, marks a
 // finished run. With a checkpoint file, the run's state is written there every `checkpoint_seconds`
 // (atomically: a crash leaves the previous one), and a run resumed from it trims curve.csv and the

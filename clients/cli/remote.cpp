@@ -349,6 +349,9 @@ int run_remote(int argc, char** argv) {
       save(stem.string() + ".dump", call(http, a.server, "GET", base + "?format=dump"));
       save(stem.string() + "_grains.vtk", call(http, a.server, "GET", base + "?format=vtk"));
       save(stem.string() + "_interfaces.vtk", call(http, a.server, "GET", base + "?format=vtk_interfaces"));
+      save(stem.string() + "_contacts.vtk", call(http, a.server, "GET", base + "?format=contacts_vtk"));
+      save(stem.string() + "_contacts.dump", call(http, a.server, "GET", base + "?format=contacts_dump"));
+      save(stem.string() + "_meshes.vtk", call(http, a.server, "GET", base + "?format=mesh_vtk"));
       save(stem.string() + "_dic.csv", call(http, a.server, "GET", base + "?format=dic_csv"));
       save(stem.string() + "_dic.vtk", call(http, a.server, "GET", base + "?format=dic_vtk"));
     }

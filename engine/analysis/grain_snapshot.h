@@ -55,6 +55,11 @@ struct GrainSnapshot {
   /// before lattices were a choice.
   Quat crystal_orientation = Quat::Identity();
   std::vector<SlipBand> slip_bands;  ///< found at the snapshot (slip_bands.h); empty when none, or in older snapshots
+  std::vector<double> scale;  ///< each grain's size over the template's (-); empty (older snapshots): all 1
+  // The contact network when taken: per grain pair in contact, the two grains and the force on `a` from `b` (N).
+  // Empty in snapshots stored before it was kept.
+  std::vector<GrainPair> contacts;
+  std::vector<Vec3> contact_force;
   // Per interface between neighbouring grains (in the reference state).
   std::vector<GrainPair> interfaces;
   std::vector<double> sliding;  ///< relative tangential displacement across the interface (m)

@@ -34,6 +34,15 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
   s.orientation = b.orientation;
   s.displacement.resize(b.size());
   for (std::size_t i = 0; i < b.size(); ++i) s.displacement[i] = b.position[i] - ref.position[i];
+  s.scale = b.scale;
+  // The contact network: the grain pairs whose spheres touch now (a pair's force is exactly zero otherwise).
+  const auto& pairs = world.neighbors().body_pairs();
+  const auto& forces = world.pair_forces();
+  for (std::size_t p = 0; p < pairs.size() && p < forces.size(); ++p) {
+    if (forces[p].isZero()) continue;
+    s.contacts.push_back({ids[pairs[p].a], ids[pairs[p].b]});
+    s.contact_force.push_back(forces[p]);
+  }
   s.penetration = world.overlap_sums();
   double mean = 0;
   for (double d : s.penetration) mean += d;

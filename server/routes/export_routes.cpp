@@ -7,8 +7,10 @@
 #include <ctime>
 #include <memory>
 #include <mutex>
+#include <set>
 
 #include "api/dic_files.h"
+#include "api/network_files.h"
 #include "api/snapshot_files.h"
 #include "server/routes/routes.h"
 #include "server/http/replies.h"
@@ -63,10 +65,13 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
-    if (format != "json" && format != "dump" && format != "vtk" && format != "vtk_interfaces" && format != "dic_csv" &&
-        format != "dic_vtk")
+    static const std::set<std::string> formats = {"json",         "dump",          "vtk",     "vtk_interfaces",
+                                                  "contacts_vtk", "contacts_dump", "mesh_vtk", "dic_csv",
+                                                  "dic_vtk"};
+    if (!formats.count(format))
       return error(res, 400, "invalid_value",
-                   "'format' must be one of: json, dump, vtk, vtk_interfaces, dic_csv, dic_vtk, got '" + format + "'",
+                   "'format' must be one of: json, dump, vtk, vtk_interfaces, contacts_vtk, contacts_dump, mesh_vtk, "
+                   "dic_csv, dic_vtk, got '" + format.substr(0, 100) + "'",
                    "format");
     std::optional<double> step;
     if (!query_number(req, res, "step", 0, 1, step)) return;
@@ -88,6 +93,9 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     if (format == "dump") return attach(".dump", api::snapshot_lammps_dump(*s), "text/plain");
     if (format == "vtk") return attach("_grains.vtk", api::snapshot_grains_vtk(*s), "text/plain");
     if (format == "vtk_interfaces") return attach("_interfaces.vtk", api::snapshot_interfaces_vtk(*s), "text/plain");
+    if (format == "contacts_vtk") return attach("_contacts.vtk", api::snapshot_contacts_vtk(*s), "text/plain");
+    if (format == "contacts_dump") return attach("_contacts.dump", api::snapshot_contacts_dump(*s), "text/plain");
+    if (format == "mesh_vtk") return attach("_meshes.vtk", api::snapshot_meshes_vtk(*s), "text/plain");
     DicMap map;
     try {
       map = api::snapshot_dic_map(*s, step, kMaxDicNodes);

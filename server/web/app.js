@@ -236,8 +236,9 @@ async function jobView(id) {
     picture(`/v1/jobs/${id}/snapshots/${k}.svg?field=${fieldSelect.value}${slice}`, snapshotPicture);
     const step = dicStep.value === "" ? "" : "&step=" + encodeURIComponent(dicStep.value);
     picture(`/v1/jobs/${id}/snapshots/${k}/dic.svg?field=${dicField.value}${step}`, dicPicture);
-    const files = { vtk_interfaces: "interfaces.vtk", dic_csv: "dic.csv", dic_vtk: "dic.vtk" };
-    fill(snapshotDownloads, "download: ", ...["json", "dump", "vtk", "vtk_interfaces", "dic_csv", "dic_vtk"].map((f) =>
+    const files = { vtk_interfaces: "interfaces.vtk", contacts_vtk: "contacts.vtk", contacts_dump: "contacts.dump",
+      mesh_vtk: "meshes.vtk", dic_csv: "dic.csv", dic_vtk: "dic.vtk" };
+    fill(snapshotDownloads, "download: ", ...["json", "dump", "vtk", "vtk_interfaces", "contacts_vtk", "contacts_dump", "mesh_vtk", "dic_csv", "dic_vtk"].map((f) =>
       el("a", { href: "#", onclick: (e) => { e.preventDefault(); download(`/v1/jobs/${id}/snapshots/${k}?format=${f}${f.startsWith("dic") ? step : ""}`,
         `job${id}_snapshot_${k}.${files[f] || f}`); } }, f)));
     showBands(k);

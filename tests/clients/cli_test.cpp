@@ -308,7 +308,7 @@ TEST_F(CliTest, KilledRunResumesFromItsCheckpointBitForBit) {
     EXPECT_EQ(slurp(fs::path(out) / "snapshots" / entry.path().filename()), slurp(entry.path())) << entry.path();
     ++files;
   }
-  EXPECT_EQ(files, 18);             // 3 snapshots x 6 files
+  EXPECT_EQ(files, 27);             // 3 snapshots x 9 files
   EXPECT_TRUE(fs::is_empty(cdir));  // a finished run's checkpoint is removed
   // --resume without a checkpoint starts from zero, with a warning.
   const RunResult fresh =

@@ -387,7 +387,7 @@ class PythonClientTest(unittest.TestCase):
             d = f"job_{job}/"
             expected = {d + "spec.json", d + "summary.json", d + "curve.csv"}
             for k in indices:
-                for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk"):
+                for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_contacts.vtk", "_contacts.dump", "_meshes.vtk", "_dic.csv", "_dic.vtk"):
                     expected.add(f"{d}snapshots/snapshot_{k}{suffix}")
             self.assertLessEqual(expected, names)
             spec = json.loads(tar.extractfile(d + "spec.json").read())

@@ -1135,6 +1135,11 @@ class BadInputTest(unittest.TestCase):
                              check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=vtk_interfaces", 200,
                              check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            for fmt in ("contacts_vtk", "mesh_vtk"):
+                cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format={fmt}", 200,
+                                 check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=contacts_dump", 200,
+                             check=both(content_type("text/plain"), starts(b"ITEM: TIMESTEP"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dic_csv", 200,
                              check=both(content_type("text/csv"), starts(b"x,z,ux,uy,uz,exx,ezz,exz,gamma_max\n"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dic_vtk&step=0.002", 200,
@@ -1157,7 +1162,7 @@ class BadInputTest(unittest.TestCase):
 
         # -- GET /v1/jobs/{id}/archive -----------------------------------------------------------------------------
         snapshot_files = [f"snapshots/snapshot_{k}{ext}" for k in range(n_snapshots)
-                          for ext in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk")]
+                          for ext in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_contacts.vtk", "_contacts.dump", "_meshes.vtk", "_dic.csv", "_dic.vtk")]
         cases.append(get(f"/v1/jobs/{d}/archive", 200,
                          check=tar_holds(d, ["spec.json", "summary.json", "curve.csv", "curve.svg"],
                                          ["snapshots/snapshot_0.json"])))

@@ -353,7 +353,7 @@ TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
       shell(cli + " results " + std::to_string(crystal) + " --out " + (dir_ / "crystal").string() + server);
   ASSERT_EQ(code, 0) << out;
   for (int k : {0, 1})
-    for (const char* suffix : {".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk"}) {
+    for (const char* suffix : {".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_contacts.vtk", "_contacts.dump", "_meshes.vtk", "_dic.csv", "_dic.vtk"}) {
       const fs::path file = dir_ / "crystal" / "snapshots" / ("snapshot_" + std::to_string(k) + suffix);
       EXPECT_TRUE(fs::exists(file) && fs::file_size(file) > 100) << file;
     }

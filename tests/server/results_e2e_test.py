@@ -537,7 +537,7 @@ class ResultsEndToEndTest(unittest.TestCase):
             self.assertEqual(snapshots, [0, 1])
             for k in snapshots:
                 expected |= {f"{top}snapshots/snapshot_{k}{suffix}"
-                             for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_dic.csv", "_dic.vtk")}
+                             for suffix in (".json", ".dump", "_grains.vtk", "_interfaces.vtk", "_contacts.vtk", "_contacts.dump", "_meshes.vtk", "_dic.csv", "_dic.vtk")}
             self.assertEqual(set(members), expected)
             self.assertTrue(all(m.isfile() for m in members.values()))
             st = self.client.status(job)
@@ -549,7 +549,8 @@ class ResultsEndToEndTest(unittest.TestCase):
             for k in snapshots:
                 self.assertEqual(json.loads(read(f"{top}snapshots/snapshot_{k}.json")), self.snapshot_json(job, k))
                 for suffix, fmt in ((".dump", "dump"), ("_grains.vtk", "vtk"), ("_interfaces.vtk", "vtk_interfaces"),
-                                    ("_dic.csv", "dic_csv"), ("_dic.vtk", "dic_vtk")):
+                                    ("_contacts.vtk", "contacts_vtk"), ("_contacts.dump", "contacts_dump"),
+                                    ("_meshes.vtk", "mesh_vtk"), ("_dic.csv", "dic_csv"), ("_dic.vtk", "dic_vtk")):
                     status, _, body = self.get(f"/v1/jobs/{job}/snapshots/{k}", format=fmt)
                     self.assertEqual(status, 200)
                     self.assertEqual(read(f"{top}snapshots/snapshot_{k}{suffix}"), body.decode(), (k, fmt))

@@ -1,0 +1,149 @@
+#include "api/network_files.h"
+
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+#include "engine/analysis/snapshot_layers.h"
+#include "engine/geometry/polyhedron.h"
+
+namespace granulab::api {
+
+namespace {
+
+std::string number(double v, const char* format = "%.9g") {
+  char text[40];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+std::unordered_map<std::uint32_t, std::size_t> index_of(const GrainSnapshot& s) {
+  std::unordered_map<std::uint32_t, std::size_t> index;
+  for (std::size_t i = 0; i < s.id.size(); ++i) index[value(s.id[i])] = i;
+  return index;
+}
+
+// Per contact: the grains' indices, normal (compressive positive) and tangential force, and the interface's sliding.
+struct ContactRow {
+  std::size_t a, b;
+  Vec3 force;
+  double normal, tangential, sliding;
+};
+
+std::vector<ContactRow> contact_rows(const GrainSnapshot& s) {
+  const auto index = index_of(s);
+  std::unordered_map<std::uint64_t, double> sliding;
+  const auto key = [](std::uint32_t a, std::uint32_t b) {
+    return a < b ? std::uint64_t(a) << 32 | b : std::uint64_t(b) << 32 | a;
+  };
+  for (std::size_t k = 0; k < s.interfaces.size() && k < s.sliding.size(); ++k)
+    sliding[key(value(s.interfaces[k].a), value(s.interfaces[k].b))] = s.sliding[k];
+  std::vector<ContactRow> rows;
+  for (std::size_t k = 0; k < s.contacts.size() && k < s.contact_force.size(); ++k) {
+    const auto a = index.find(value(s.contacts[k].a)), b = index.find(value(s.contacts[k].b));
+    if (a == index.end() || b == index.end()) continue;
+    const Vec3 branch = s.position[a->second] - s.position[b->second];  // from b to a
+    const Vec3 n = branch.norm() > 0 ? Vec3(branch.normalized()) : Vec3::UnitZ();
+    const Vec3& f = s.contact_force[k];
+    const double fn = f.dot(n);  // pushing a away from b: compression
+    const auto slid = sliding.find(key(value(s.contacts[k].a), value(s.contacts[k].b)));
+    rows.push_back({a->second, b->second, f, fn, (f - fn * n).norm(), slid == sliding.end() ? 0.0 : slid->second});
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::string snapshot_contacts_vtk(const GrainSnapshot& s) {
+  const std::vector<ContactRow> rows = contact_rows(s);
+  const std::size_t n = s.id.size(), m = rows.size();
+  std::string out = "# vtk DataFile Version 3.0\ngranulab contact network, strain " + std::to_string(s.strain) +
+                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n) + " double\n";
+  for (const Vec3& x : s.position) out += number(x.x()) + " " + number(x.y()) + " " + number(x.z()) + "\n";
+  out += "LINES " + std::to_string(m) + " " + std::to_string(3 * m) + "\n";
+  for (const ContactRow& r : rows) out += "2 " + std::to_string(r.a) + " " + std::to_string(r.b) + "\n";
+  out += "CELL_DATA " + std::to_string(m) + "\nVECTORS force double\n";
+  for (const ContactRow& r : rows)
+    out += number(r.force.x(), "%.6g") + " " + number(r.force.y(), "%.6g") + " " + number(r.force.z(), "%.6g") + "\n";
+  const auto scalars = [&](const char* name, auto get) {
+    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
+    for (const ContactRow& r : rows) out += number(get(r), "%.6g") + "\n";
+  };
+  scalars("force_normal", [](const ContactRow& r) { return r.normal; });
+  scalars("force_tangential", [](const ContactRow& r) { return r.tangential; });
+  scalars("force_magnitude", [](const ContactRow& r) { return std::hypot(r.normal, r.tangential); });
+  scalars("sliding", [](const ContactRow& r) { return r.sliding; });
+  return out;
+}
+
+std::string snapshot_contacts_dump(const GrainSnapshot& s) {
+  const std::vector<ContactRow> rows = contact_rows(s);
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const Vec3& x : s.position) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  if (s.position.empty()) lo = hi = Vec3::Zero();
+  std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ENTRIES\n" +
+                    std::to_string(rows.size()) + "\nITEM: BOX BOUNDS ff ff ff\n";
+  for (int k = 0; k < 3; ++k) out += number(lo[k]) + " " + number(hi[k]) + "\n";
+  out += "ITEM: ENTRIES index grain_a grain_b fx fy fz force_normal force_tangential sliding\n";
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const ContactRow& r = rows[k];
+    const Vec3& f = r.force;
+    out += std::to_string(k + 1) + " " + std::to_string(value(s.id[r.a])) + " " +
+           std::to_string(value(s.id[r.b])) + " " + number(f.x(), "%.6g") + " " + number(f.y(), "%.6g") + " " +
+           number(f.z(), "%.6g") + " " + number(r.normal, "%.6g") + " " + number(r.tangential, "%.6g") + " " +
+           number(r.sliding, "%.6g") + "\n";
+  }
+  return out;
+}
+
+std::string snapshot_meshes_vtk(const GrainSnapshot& s) {
+  const std::size_t n = s.id.size();
+  // The paper's snapshots stored before the cell was kept: a = neighbour distance x sqrt2 (FCC).
+  const double a = s.grain_size > 0 ? s.grain_size : std::sqrt(2.0) * neighbour_distance(s);
+  const Polyhedron solid = Polyhedron::make(s.grain_shape, a > 0 ? a : 1.0);
+  std::size_t per_grain_points = 0, per_grain_list = 0;
+  for (const Face& f : solid.faces()) per_grain_points += f.vertices.size(), per_grain_list += f.vertices.size() + 1;
+  const std::size_t faces = solid.faces().size();
+  std::string out = "# vtk DataFile Version 3.0\ngranulab grain shapes, strain " + std::to_string(s.strain) +
+                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n * per_grain_points) + " double\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d R = s.orientation[i].normalized().toRotationMatrix();
+    const double scale = i < s.scale.size() ? s.scale[i] : 1.0;
+    for (const Face& f : solid.faces())
+      for (const Vec3& v : f.vertices) {
+        const Vec3 x = s.position[i] + R * (scale * v);
+        out += number(x.x()) + " " + number(x.y()) + " " + number(x.z()) + "\n";
+      }
+  }
+  out += "POLYGONS " + std::to_string(n * faces) + " " + std::to_string(n * per_grain_list) + "\n";
+  for (std::size_t i = 0, first = 0; i < n; ++i)
+    for (const Face& f : solid.faces()) {
+      out += std::to_string(f.vertices.size());
+      for (std::size_t k = 0; k < f.vertices.size(); ++k) out += " " + std::to_string(first + k);
+      out += "\n";
+      first += f.vertices.size();
+    }
+  // Each face carries its grain's values (ParaView colours the grain by them).
+  out += "CELL_DATA " + std::to_string(n * faces) + "\nSCALARS id int 1\nLOOKUP_TABLE default\n";
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t f = 0; f < faces; ++f) out += std::to_string(value(s.id[i])) + "\n";
+  const auto scalars = [&](const char* name, const std::vector<double>& v) {
+    if (v.size() != n) return;  // a field the stored snapshot predates
+    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string line = number(v[i], "%.6g") + "\n";
+      for (std::size_t f = 0; f < faces; ++f) out += line;
+    }
+  };
+  std::vector<double> displacement;
+  for (const Vec3& d : s.displacement) displacement.push_back(d.norm());
+  scalars("displacement", displacement);
+  scalars("penetration_ratio", s.penetration_ratio);
+  scalars("gamma_max", s.gamma_max);
+  scalars("equivalent_strain", s.equivalent_strain);
+  scalars("d2min", s.d2min);
+  scalars("misorientation", s.misorientation);
+  return out;
+}
+
+}  // namespace granulab::api

@@ -1,0 +1,24 @@
+// A snapshot's contact network and grain shapes as the files OVITO and ParaView users expect (docs/api.md):
+// force chains as VTK lines between touching grains' centres and as a LAMMPS local dump (one entry per grain pair in
+// contact), and every grain as its polyhedron, posed, in a VTK polydata coloured by any per-grain field.
+#pragma once
+
+#include <string>
+
+#include "engine/analysis/grain_snapshot.h"
+
+namespace granulab::api {
+
+/// Lines between the centres of the grain pairs in contact, with cell data `force` (the vector on the first grain,
+/// N), `force_normal` (along the centre line, compressive positive), `force_tangential` (its magnitude across it),
+/// `force_magnitude` and `sliding` (the interface's sliding distance, m; 0 for a pair that is no reference
+/// interface). Empty lines for a snapshot stored before the network was kept.
+std::string snapshot_contacts_vtk(const GrainSnapshot& s);
+/// The same as a LAMMPS local dump ("ITEM: ENTRIES index grain_a grain_b fx fy fz normal_force tangential_force
+/// sliding"), which OVITO reads as bonds' properties.
+std::string snapshot_contacts_dump(const GrainSnapshot& s);
+/// Every grain as its polyhedron (the snapshot's grain shape and cubic cell, times the grain's scale), placed and
+/// turned as the grain is: POLYDATA polygons, their cell data the grain's id and fields.
+std::string snapshot_meshes_vtk(const GrainSnapshot& s);
+
+}  // namespace granulab::api

@@ -1,0 +1,94 @@
+// The contact network and grain shape files (api/network_files.h) on a hand-made snapshot of three cubes in a row:
+//  - a contact's force splits into its part along the centre line (compressive positive) and across it, both in the
+//    VTK lines and the LAMMPS local dump, with the interface's sliding;
+//  - each grain is its cube, placed, turned and scaled as the grain is: every vertex at its pose;
+//  - the network and the scales survive the JSON round trip.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "api/network_files.h"
+#include "api/snapshot_files.h"
+
+namespace granulab::api {
+namespace {
+
+constexpr double kA = 0.01;
+
+GrainSnapshot three_cubes() {
+  GrainSnapshot s;
+  s.grain_shape = Shape::cube;
+  s.grain_size = kA;
+  for (int i = 0; i < 3; ++i) {
+    s.id.push_back(GrainId(std::uint32_t(10 + i)));
+    s.position.emplace_back(i * kA, 0, 0);
+    s.displacement.push_back(Vec3::Zero());
+    s.orientation.push_back(i == 2 ? Quat(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ())) : Quat::Identity());
+    s.penetration.push_back(0), s.penetration_ratio.push_back(1), s.gamma_max.push_back(0.1 * i);
+    s.equivalent_strain.push_back(0);
+  }
+  s.scale = {1.0, 1.0, 0.5};
+  s.interfaces = {{GrainId(10), GrainId(11)}, {GrainId(11), GrainId(12)}};
+  s.sliding = {2e-5, 0};
+  // Grain 10 is pushed away from 11 (along -x) and dragged along y.
+  s.contacts = {{GrainId(10), GrainId(11)}};
+  s.contact_force = {Vec3(-3.0, 4.0, 0.0)};
+  return s;
+}
+
+TEST(NetworkFiles, AContactsForceSplitsAlongAndAcrossItsCentreLine) {
+  const GrainSnapshot s = three_cubes();
+  const std::string vtk = snapshot_contacts_vtk(s);
+  EXPECT_NE(vtk.find("LINES 1 3\n2 0 1\n"), std::string::npos) << vtk;
+  EXPECT_NE(vtk.find("VECTORS force double\n-3 4 0\n"), std::string::npos);
+  EXPECT_NE(vtk.find("SCALARS force_normal double 1\nLOOKUP_TABLE default\n3\n"), std::string::npos);
+  EXPECT_NE(vtk.find("SCALARS force_tangential double 1\nLOOKUP_TABLE default\n4\n"), std::string::npos);
+  EXPECT_NE(vtk.find("SCALARS force_magnitude double 1\nLOOKUP_TABLE default\n5\n"), std::string::npos);
+  EXPECT_NE(vtk.find("SCALARS sliding double 1\nLOOKUP_TABLE default\n2e-05\n"), std::string::npos);
+  const std::string dump = snapshot_contacts_dump(s);
+  EXPECT_NE(dump.find("ITEM: NUMBER OF ENTRIES\n1\n"), std::string::npos);
+  EXPECT_NE(dump.find("ITEM: ENTRIES index grain_a grain_b fx fy fz force_normal force_tangential sliding\n"
+                      "1 10 11 -3 4 0 3 4 2e-05\n"),
+            std::string::npos)
+      << dump;
+}
+
+TEST(NetworkFiles, EachGrainIsItsPolyhedronPosedAndScaled) {
+  const GrainSnapshot s = three_cubes();
+  const std::string vtk = snapshot_meshes_vtk(s);
+  // A cube: 6 faces of 4 vertices per grain.
+  EXPECT_NE(vtk.find("POINTS 72 double\n"), std::string::npos);
+  EXPECT_NE(vtk.find("POLYGONS 18 90\n"), std::string::npos);
+  std::istringstream in(vtk.substr(vtk.find("POINTS 72 double\n") + 17));
+  for (int g = 0; g < 3; ++g)
+    for (int v = 0; v < 24; ++v) {
+      Vec3 x;
+      in >> x.x() >> x.y() >> x.z();
+      const Vec3 local = s.orientation[g].conjugate() * (x - s.position[g]);
+      const double half = 0.5 * kA * s.scale[g];
+      // Written with 9 significant digits of coordinates up to 0.025 m: 1e-10 m.
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::abs(local[k]), half, 1e-10) << g << " " << v;
+    }
+  // The grain's fields on its faces: gamma_max 0.2 on each of the third grain's six.
+  const std::string gamma = vtk.substr(vtk.find("SCALARS gamma_max"));
+  std::istringstream values(gamma.substr(gamma.find("default\n") + 8));
+  std::vector<double> v(18);
+  for (double& x : v) values >> x;
+  for (int f = 0; f < 6; ++f) EXPECT_DOUBLE_EQ(v[12 + f], 0.2);
+}
+
+TEST(NetworkFiles, TheNetworkAndScalesSurviveTheJsonRoundTrip) {
+  const GrainSnapshot s = three_cubes();
+  const GrainSnapshot back = snapshot_from_json(snapshot_json(s));
+  ASSERT_EQ(back.contacts.size(), 1u);
+  EXPECT_EQ(value(back.contacts[0].a), 10u);
+  EXPECT_EQ(value(back.contacts[0].b), 11u);
+  EXPECT_EQ(back.contact_force[0], Vec3(-3, 4, 0));
+  EXPECT_EQ(back.scale, s.scale);
+}
+
+}  // namespace
+}  // namespace granulab::api
