@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "engine/analysis/snapshot_layers.h"
+#include "engine/geometry/grain_template.h"
 #include "engine/geometry/polyhedron.h"
 
 namespace granulab::api {
@@ -92,6 +94,47 @@ std::string snapshot_contacts_dump(const GrainSnapshot& s) {
            std::to_string(value(s.id[r.b])) + " " + number(f.x(), "%.6g") + " " + number(f.y(), "%.6g") + " " +
            number(f.z(), "%.6g") + " " + number(r.normal, "%.6g") + " " + number(r.tangential, "%.6g") + " " +
            number(r.sliding, "%.6g") + "\n";
+  }
+  return out;
+}
+
+std::string snapshot_spheres_dump(const GrainSnapshot& s) {
+  if (s.edge_spheres < 2 || !(s.grain_size > 0))
+    throw std::invalid_argument("this snapshot was stored before its grains' sphere clumps were kept (no N_e): "
+                                "no sphere-level dump");
+  const GrainTemplate grain(GrainGeometry{s.grain_shape, s.grain_size, s.edge_spheres, s.sphere_overlap});
+  const std::size_t per = grain.sphere_count(), n = s.id.size();
+  if (n * per > kMaxDumpSpheres)
+    throw std::invalid_argument("a sphere-level dump of " + std::to_string(n * per) + " spheres is over the " +
+                                std::to_string(kMaxDumpSpheres) + " this server writes: use the grain dump (format=dump)");
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  std::vector<Vec3> centres;
+  centres.reserve(n * per);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d R = s.orientation[i].normalized().toRotationMatrix() * (i < s.scale.size() ? s.scale[i] : 1.0);
+    for (const Vec3& o : grain.offsets()) {
+      centres.push_back(s.position[i] + R * o);
+      lo = lo.cwiseMin(centres.back()), hi = hi.cwiseMax(centres.back());
+    }
+  }
+  if (centres.empty()) lo = hi = Vec3::Zero();
+  std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ATOMS\n" +
+                    std::to_string(centres.size()) + "\nITEM: BOX BOUNDS ff ff ff\n";
+  for (int k = 0; k < 3; ++k) out += number(lo[k]) + " " + number(hi[k]) + "\n";
+  out += "ITEM: ATOMS id mol type x y z radius penetration_ratio gamma_max equivalent_strain d2min misorientation\n";
+  out.reserve(out.size() + centres.size() * 110);
+  const double nan = std::nan("");
+  char line[320];
+  for (std::size_t i = 0; i < n; ++i) {
+    const double radius = grain.radius() * (i < s.scale.size() ? s.scale[i] : 1.0);
+    const double d2 = i < s.d2min.size() ? s.d2min[i] : nan, angle = i < s.misorientation.size() ? s.misorientation[i] : nan;
+    for (std::size_t k = 0; k < per; ++k) {
+      const Vec3& x = centres[i * per + k];
+      std::snprintf(line, sizeof line, "%zu %u 1 %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g %.6g\n", i * per + k + 1,
+                    value(s.id[i]), x.x(), x.y(), x.z(), radius, s.penetration_ratio[i], s.gamma_max[i],
+                    s.equivalent_strain[i], d2, angle);
+      out += line;
+    }
   }
   return out;
 }

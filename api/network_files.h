@@ -17,6 +17,13 @@ std::string snapshot_contacts_vtk(const GrainSnapshot& s);
 /// The same as a LAMMPS local dump ("ITEM: ENTRIES index grain_a grain_b fx fy fz normal_force tangential_force
 /// sliding"), which OVITO reads as bonds' properties.
 std::string snapshot_contacts_dump(const GrainSnapshot& s);
+/// The most spheres snapshot_spheres_dump writes (about 100 B each, built in memory: 100 MB; the reference crystal
+/// has 841,536).
+constexpr std::size_t kMaxDumpSpheres = 1000000;
+/// Every sphere of every grain as a LAMMPS text dump ("id mol type x y z radius" and the grain's fields: mol is the
+/// grain's id), rebuilt from the grains' poses and the clump the snapshot names (N_e, kappa). Throws
+/// std::invalid_argument when the snapshot predates that (no N_e kept) or would have more than kMaxDumpSpheres.
+std::string snapshot_spheres_dump(const GrainSnapshot& s);
 /// Every grain as its polyhedron (the snapshot's grain shape and cubic cell, times the grain's scale), placed and
 /// turned as the grain is: POLYDATA polygons, their cell data the grain's id and fields.
 std::string snapshot_meshes_vtk(const GrainSnapshot& s);

@@ -90,6 +90,8 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
                       {"size", s.grain_size},
                       {"layer_spacing", s.layer_spacing},
                       {"layer_planes", s.layer_planes},
+                      {"edge_spheres", s.edge_spheres},
+                      {"sphere_overlap", s.sphere_overlap},
                       {"orientation", {q.w(), q.x(), q.y(), q.z()}}};
   }
   out["slip_bands"] = slip_bands_json(s.slip_bands, snapshot_lattice(s));
@@ -129,6 +131,8 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
     if (c.contains("size") && c["size"].is_number()) s.grain_size = c["size"].get<double>();
     if (c.contains("layer_spacing") && c["layer_spacing"].is_number()) s.layer_spacing = c["layer_spacing"].get<double>();
     if (c.contains("layer_planes") && c["layer_planes"].is_string()) s.layer_planes = c["layer_planes"].get<std::string>();
+    if (c.contains("edge_spheres") && c["edge_spheres"].is_number_integer()) s.edge_spheres = c["edge_spheres"].get<int>();
+    if (c.contains("sphere_overlap") && c["sphere_overlap"].is_number()) s.sphere_overlap = c["sphere_overlap"].get<double>();
   }
   // The crystal's frame; snapshots stored before slip bands had none: the paper's crystal.
   const nlohmann::json* q = j.contains("crystal") && j["crystal"].is_object() && j["crystal"].contains("orientation")

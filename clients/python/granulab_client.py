@@ -225,7 +225,8 @@ class Client:
         return pandas.DataFrame({name: c[name] for name in c["columns"]})
 
     def snapshot_file(self, job_id, k, fmt="dump", step=None):
-        """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO), "vtk" or "vtk_interfaces" (ParaView), "json",
+        """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO; "dump_spheres": every sphere), "vtk" or
+        "vtk_interfaces" (ParaView), "json",
         the contact network "contacts_vtk" or "contacts_dump" (a LAMMPS local dump), the grains' polyhedra "mesh_vtk", or
         the front face's DIC-like map, "dic_csv" or "dic_vtk", on a grid of `step` m (default: half a grain spacing)."""
         query = {"format": fmt}

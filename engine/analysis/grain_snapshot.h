@@ -38,6 +38,8 @@ struct GrainSnapshot {
   double grain_size = 0;              ///< the cubic cell a (m); 0: a'/sqrt2 from the neighbour distance
   double layer_spacing = 0;           ///< mean distance between layers along y (m); 0: {111} layers, a'/sqrt3
   std::string layer_planes = "{111}"; ///< what the layers are, for captions
+  int edge_spheres = 0;               ///< N_e of the grains' sphere clumps; 0: not kept (older snapshots)
+  double sphere_overlap = 0;          ///< kappa of the clumps (-)
   // Per grain, in ascending grain id.
   std::vector<GrainId> id;
   std::vector<Vec3> position;             ///< centre of mass (m)

@@ -29,6 +29,8 @@ GrainSnapshot crystal_snapshot(const CrystalSample& sample, const CrystalReferen
   s.grain_size = sample.params().grain.size;
   s.layer_spacing = sample.lattice().period.y();
   s.layer_planes = layer_planes(sample.lattice());
+  s.edge_spheres = sample.params().grain.edge_spheres;
+  s.sphere_overlap = sample.params().grain.overlap;
   s.id = ids;
   s.position = b.position;
   s.orientation = b.orientation;

@@ -65,12 +65,13 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
-    static const std::set<std::string> formats = {"json",         "dump",          "vtk",     "vtk_interfaces",
-                                                  "contacts_vtk", "contacts_dump", "mesh_vtk", "dic_csv",
-                                                  "dic_vtk"};
+    static const std::set<std::string> formats = {"json",         "dump",          "dump_spheres", "vtk",
+                                                  "vtk_interfaces", "contacts_vtk", "contacts_dump", "mesh_vtk",
+                                                  "dic_csv",      "dic_vtk"};
     if (!formats.count(format))
       return error(res, 400, "invalid_value",
-                   "'format' must be one of: json, dump, vtk, vtk_interfaces, contacts_vtk, contacts_dump, mesh_vtk, "
+                   "'format' must be one of: json, dump, dump_spheres, vtk, vtk_interfaces, contacts_vtk, contacts_dump, "
+                   "mesh_vtk, "
                    "dic_csv, dic_vtk, got '" + format.substr(0, 100) + "'",
                    "format");
     std::optional<double> step;
@@ -95,6 +96,13 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     if (format == "vtk_interfaces") return attach("_interfaces.vtk", api::snapshot_interfaces_vtk(*s), "text/plain");
     if (format == "contacts_vtk") return attach("_contacts.vtk", api::snapshot_contacts_vtk(*s), "text/plain");
     if (format == "contacts_dump") return attach("_contacts.dump", api::snapshot_contacts_dump(*s), "text/plain");
+    if (format == "dump_spheres") {
+      try {
+        return attach("_spheres.dump", api::snapshot_spheres_dump(*s), "text/plain");
+      } catch (const std::invalid_argument& e) {
+        return error(res, 400, "out_of_range", e.what(), "format");
+      }
+    }
     if (format == "mesh_vtk") return attach("_meshes.vtk", api::snapshot_meshes_vtk(*s), "text/plain");
     DicMap map;
     try {

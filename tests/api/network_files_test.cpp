@@ -80,6 +80,36 @@ TEST(NetworkFiles, EachGrainIsItsPolyhedronPosedAndScaled) {
   for (int f = 0; f < 6; ++f) EXPECT_DOUBLE_EQ(v[12 + f], 0.2);
 }
 
+TEST(NetworkFiles, TheSphereDumpHasEverySphereOfEveryGrainWithItsGrainsId) {
+  GrainSnapshot s = three_cubes();
+  EXPECT_THROW(snapshot_spheres_dump(s), std::invalid_argument);  // stored before N_e was kept
+  s.edge_spheres = 3, s.sphere_overlap = 0.5;
+  const std::string dump = snapshot_spheres_dump(s);
+  std::istringstream in(dump);
+  std::string line;
+  std::size_t atoms = 0;
+  for (int k = 0; k < 4 && std::getline(in, line); ++k)
+    if (k == 3) atoms = std::stoul(line);
+  EXPECT_EQ(atoms % 3, 0u);
+  EXPECT_GT(atoms, 3u * 8u);  // at least the corners of each cube's clump
+  while (std::getline(in, line) && line.rfind("ITEM: ATOMS", 0) != 0) {
+  }
+  EXPECT_EQ(line, "ITEM: ATOMS id mol type x y z radius penetration_ratio gamma_max equivalent_strain d2min misorientation");
+  for (std::size_t k = 0; k < atoms; ++k) {
+    std::size_t id = 0, mol = 0, type = 0;
+    Vec3 x;
+    double radius = 0;
+    in >> id >> mol >> type >> x.x() >> x.y() >> x.z() >> radius;
+    std::getline(in, line);
+    const std::size_t g = k / (atoms / 3);
+    ASSERT_EQ(mol, 10 + g);
+    // Inside its grain's cube (scaled), its radius scaled with it.
+    const Vec3 local = s.orientation[g].conjugate() * (x - s.position[g]);
+    EXPECT_LE(local.cwiseAbs().maxCoeff(), 0.5 * kA * s.scale[g] + 1e-10);
+    EXPECT_GT(radius, 0);
+  }
+}
+
 TEST(NetworkFiles, TheNetworkAndScalesSurviveTheJsonRoundTrip) {
   const GrainSnapshot s = three_cubes();
   const GrainSnapshot back = snapshot_from_json(snapshot_json(s));
@@ -88,6 +118,11 @@ TEST(NetworkFiles, TheNetworkAndScalesSurviveTheJsonRoundTrip) {
   EXPECT_EQ(value(back.contacts[0].b), 11u);
   EXPECT_EQ(back.contact_force[0], Vec3(-3, 4, 0));
   EXPECT_EQ(back.scale, s.scale);
+  GrainSnapshot clumps = s;
+  clumps.edge_spheres = 4, clumps.sphere_overlap = 0.75;
+  const GrainSnapshot again = snapshot_from_json(snapshot_json(clumps));
+  EXPECT_EQ(again.edge_spheres, 4);
+  EXPECT_DOUBLE_EQ(again.sphere_overlap, 0.75);
 }
 
 }  // namespace

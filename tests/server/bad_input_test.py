@@ -1138,6 +1138,8 @@ class BadInputTest(unittest.TestCase):
             for fmt in ("contacts_vtk", "mesh_vtk"):
                 cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format={fmt}", 200,
                                  check=both(content_type("text/plain"), starts(b"# vtk DataFile"))))
+            cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dump_spheres", 200,
+                             check=both(content_type("text/plain"), starts(b"ITEM: TIMESTEP"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=contacts_dump", 200,
                              check=both(content_type("text/plain"), starts(b"ITEM: TIMESTEP"))))
             cases.append(get(f"/v1/jobs/{c}/snapshots/{k}?format=dic_csv", 200,

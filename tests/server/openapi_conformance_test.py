@@ -741,7 +741,7 @@ class OpenApiConformanceTest(unittest.TestCase):
         op = "GET /v1/jobs/{id}/snapshots/{k}"
         for k in range(min(2, f["snapshots"])):
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}", expect=200))
-            for fmt in ["json", "dump", "vtk", "vtk_interfaces", "contacts_vtk", "contacts_dump", "mesh_vtk", "dic_csv",
+            for fmt in ["json", "dump", "dump_spheres", "vtk", "vtk_interfaces", "contacts_vtk", "contacts_dump", "mesh_vtk", "dic_csv",
                         "dic_vtk"]:
                 cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}?format={fmt}", expect=200))
             cases.append(G(op, f"/v1/jobs/{c}/snapshots/{k}?format=dic_csv&step=0.002", expect=200))
