@@ -131,8 +131,13 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
     if (c.contains("size") && c["size"].is_number()) s.grain_size = c["size"].get<double>();
     if (c.contains("layer_spacing") && c["layer_spacing"].is_number()) s.layer_spacing = c["layer_spacing"].get<double>();
     if (c.contains("layer_planes") && c["layer_planes"].is_string()) s.layer_planes = c["layer_planes"].get<std::string>();
-    if (c.contains("edge_spheres") && c["edge_spheres"].is_number_integer()) s.edge_spheres = c["edge_spheres"].get<int>();
-    if (c.contains("sphere_overlap") && c["sphere_overlap"].is_number()) s.sphere_overlap = c["sphere_overlap"].get<double>();
+    // The clump, within the spec's own ranges (grain.edge_spheres, grain.overlap); anything else counts as not kept.
+    if (c.contains("edge_spheres") && c["edge_spheres"].is_number_integer() && c.contains("sphere_overlap") &&
+        c["sphere_overlap"].is_number()) {
+      const auto ne = c["edge_spheres"].get<long long>();
+      const double kappa = c["sphere_overlap"].get<double>();
+      if (ne >= 2 && ne <= 40 && kappa >= 0 && kappa <= 0.95) s.edge_spheres = int(ne), s.sphere_overlap = kappa;
+    }
   }
   // The crystal's frame; snapshots stored before slip bands had none: the paper's crystal.
   const nlohmann::json* q = j.contains("crystal") && j["crystal"].is_object() && j["crystal"].contains("orientation")
@@ -293,10 +298,12 @@ std::vector<SnapshotFile> snapshot_files(std::size_t k, const GrainSnapshot& s) 
                                      {stem + "_contacts.dump", snapshot_contacts_dump(s)},
                                      {stem + "_meshes.vtk", snapshot_meshes_vtk(s)}};
   // The front face's DIC-like map at its default step (about four nodes per face grain); none without grains.
-  if (!s.id.empty()) {
-    const DicMap map = snapshot_dic_map(s, std::nullopt, std::size_t(-1));
+  // (A stored snapshot without a neighbour distance or grain size has no default step: no map then.)
+  try {
+    const DicMap map = snapshot_dic_map(s, std::nullopt, 4000000);
     files.push_back({stem + "_dic.csv", dic_csv(map)});
     files.push_back({stem + "_dic.vtk", dic_vtk(map)});
+  } catch (const std::invalid_argument&) {
   }
   return files;
 }

@@ -352,8 +352,10 @@ int run_remote(int argc, char** argv) {
       save(stem.string() + "_contacts.vtk", call(http, a.server, "GET", base + "?format=contacts_vtk"));
       save(stem.string() + "_contacts.dump", call(http, a.server, "GET", base + "?format=contacts_dump"));
       save(stem.string() + "_meshes.vtk", call(http, a.server, "GET", base + "?format=mesh_vtk"));
-      save(stem.string() + "_dic.csv", call(http, a.server, "GET", base + "?format=dic_csv"));
-      save(stem.string() + "_dic.vtk", call(http, a.server, "GET", base + "?format=dic_vtk"));
+      // The DIC-like map when the server can make one (an older server, or an old snapshot, may not).
+      for (const auto& [suffix, format] : {std::pair<const char*, const char*>{"_dic.csv", "dic_csv"}, {"_dic.vtk", "dic_vtk"}})
+        if (const httplib::Result r = http.Get((base + "?format=" + format).c_str()); r && r->status == 200)
+          save(stem.string() + suffix, r->body);
     }
     if (!finished) {
       std::fprintf(stderr, "job %s is %s: its results so far are in %s (no summary.json)\n", id.c_str(),

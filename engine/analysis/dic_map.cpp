@@ -90,7 +90,9 @@ DicMap dic_map(const GrainSnapshot& s, double step, double subset, std::size_t m
     if (count < 3 || nearest2 > near2) continue;  // outside the face, or in a hole
     // Collinear grains leave the gradient undetermined: the normal matrix is then (nearly) singular.
     const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
-    if (solve.info() != Eigen::Success || std::abs(normal.determinant()) <= 1e-9 * std::pow(normal(0, 0), 3) * r2 * r2)
+    // Scale-free: against the product of the diagonal (Hadamard's bound), whatever the subset's size.
+    if (solve.info() != Eigen::Success ||
+        std::abs(normal.determinant()) <= 1e-9 * normal(0, 0) * normal(1, 1) * normal(2, 2))
       continue;
     const Eigen::Matrix3d coef = solve.solve(rhs);  // rows: value, d/dX, d/dZ; columns: u_x, u_y, u_z
     Eigen::Matrix<double, 3, 2> F;

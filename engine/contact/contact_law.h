@@ -70,6 +70,7 @@ inline ContactForce contact_force(const ContactLaw& law, double c_n, const Vec3&
       friction = scale * (1 - scale) * ft2 / law.tangential_stiffness;  // cap x |xi_trial - xi|
     } else {
       xi = Vec3::Zero();
+      friction = cap * v_t.norm() * dt;  // no spring: all of v_t dt slips
     }
   }
   const double energy = 0.5 * law.normal_stiffness * delta * delta + 0.5 * law.tangential_stiffness * xi.squaredNorm();

@@ -67,6 +67,9 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
                                                            double& hx_io, double& hy_io, double& hz_io) {
   const double d = c.diameter, radius = c.radius, kn = c.kn, kt = c.kt, cn = c.cn, ct = c.ct;
   const double mu = c.friction, dt = c.dt, inv_kt = kt > 0 ? 1 / kt : 0;
+  // The sliding loss is cap x slip: s (1 - s) |g|^2 / k_t with a spring; without one (k_t = 0, g = -c_t v_t) all of
+  // v_t dt slips, cap |v_t| dt = s |g|^2 dt / c_t. Constants of the pair, so no branch in the loop.
+  const double spring = kt > 0 ? 1.0 : 0.0, loss = kt > 0 ? inv_kt : (ct > 0 ? dt / ct : 0.0);
   const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
   const bool touching = dist2 < d * d;
   const double inv = 1 / std::sqrt(dist2);
@@ -114,7 +117,7 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
   // This step's losses (contact_law.h): the dashpots' work, the tangential one only while sticking, and
   // on slip the Coulomb force times the slip, cap (1 - scale) |g| / k_t.
   out.damping = touching ? dt * (cn * vn * vn + (slip ? 0.0 : ct * (tx * tx + ty * ty + tz * tz))) : 0.0;
-  out.friction = touching && slip ? scale * (1 - scale) * g2 * inv_kt : 0.0;
+  out.friction = touching && slip ? scale * (1 - spring * scale) * g2 * loss : 0.0;
   return out;
 }
 

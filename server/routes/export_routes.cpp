@@ -99,7 +99,7 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     if (format == "dump_spheres") {
       try {
         return attach("_spheres.dump", api::snapshot_spheres_dump(*s), "text/plain");
-      } catch (const std::invalid_argument& e) {
+      } catch (const std::exception& e) {  // the stored clump cannot be rebuilt, or is over the limit
         return error(res, 400, "out_of_range", e.what(), "format");
       }
     }
@@ -108,7 +108,7 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     try {
       map = api::snapshot_dic_map(*s, step, kMaxDicNodes);
     } catch (const std::invalid_argument& e) {
-      return error(res, 400, "out_of_range", e.what(), "step");
+      return error(res, 400, "out_of_range", e.what(), step ? "step" : "");
     }
     if (format == "dic_csv") return attach("_dic.csv", api::dic_csv(map), "text/csv");
     attach("_dic.vtk", api::dic_vtk(map), "text/plain");
@@ -119,16 +119,18 @@ void mount_export_routes(Router& router, const RouteContext& c) {
   router.get(R"(/v1/jobs/(\d+)/archive)", {}, [c](const http::Request& req, http::Response& res) {
     const auto job = c.access.job_for(c.store, req, res, "read", false);
     if (!job) return;
-    // The tar is built in memory (about 2.2 times the stored snapshots: four formats) and held until the
+    // The tar is built in memory (about 7.6 times the stored snapshots in their nine formats, measured on the N_e = 4
+    // AR 1 crystal's snapshots, the polyhedra 4x alone: 8 with a margin) and held until the
     // client has read it: one build at a time, and none above the cap, so no reader can exhaust the
     // daemon's memory or its handler threads.
     constexpr double max_archive_bytes = 256e6;
     double stored = 0;
     for (const auto& info : c.store.snapshots(job->id)) stored += double(info.bytes);
-    if (2.2 * stored > max_archive_bytes)
+    constexpr double archive_per_stored = 8;
+    if (archive_per_stored * stored > max_archive_bytes)
       return error(res, 413, "too_large",
                    "job " + std::to_string(job->id) + "'s archive would be about " +
-                       std::to_string(int(2.2 * stored / 1e6)) +
+                       std::to_string(int(archive_per_stored * stored / 1e6)) +
                        " MB, over the 256 MB the server builds at once: download its snapshots one by one "
                        "(/v1/jobs/{id}/snapshots/{k}?format=...) or with `granulab results`");
     static std::mutex one_at_a_time;

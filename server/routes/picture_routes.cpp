@@ -107,7 +107,7 @@ void mount_picture_routes(Router& router, const RouteContext& c) {
                                                    job->label.empty() ? "job " + std::to_string(job->id) : job->label),
                                  "image/svg+xml");
                } catch (const std::invalid_argument& e) {
-                 error(res, 400, "out_of_range", e.what(), "step");
+                 error(res, 400, "out_of_range", e.what(), step ? "step" : "");
                }
              });
 }

@@ -43,14 +43,20 @@ async function sendJson(method, path, body) {
 }
 
 // An SVG picture from the server, inline; a note instead when there is nothing to draw yet.
+// The holder shows the picture last asked for: an answer that arrives after a newer request is dropped.
 async function picture(path, holder) {
+  holder.dataset.wanted = path;
   const response = await request(path);
+  if (holder.dataset.wanted !== path) return;
   if (!response.ok) {
     const body = await response.json().catch(() => ({}));
-    fill(holder, el("p", { class: "hint" }, body.error ? body.error.message : "HTTP " + response.status));
+    if (holder.dataset.wanted === path)
+      fill(holder, el("p", { class: "hint" }, body.error ? body.error.message : "HTTP " + response.status));
     return;
   }
-  const doc = new DOMParser().parseFromString(await response.text(), "image/svg+xml");
+  const text = await response.text();
+  if (holder.dataset.wanted !== path) return;
+  const doc = new DOMParser().parseFromString(text, "image/svg+xml");
   const svg = doc.documentElement;
   if (svg.nodeName !== "svg") return;
   fill(holder, document.importNode(svg, true));
@@ -245,10 +251,11 @@ async function jobView(id) {
   };
   // A finished job's summary lists each snapshot's bands; a running one's come from the snapshot itself.
   let summarySnapshots = null;
+  const bandsOf = {};  // a running job's snapshots' bands, fetched once each
   const showBands = async (k) => {
-    let bands = summarySnapshots && summarySnapshots[k] ? summarySnapshots[k].slip_bands : undefined;
+    let bands = summarySnapshots && summarySnapshots[k] ? summarySnapshots[k].slip_bands : bandsOf[k];
     if (bands === undefined) {
-      try { bands = (await getJson(`/v1/jobs/${id}/snapshots/${k}`)).slip_bands; } catch (e) { bands = undefined; }
+      try { bands = bandsOf[k] = (await getJson(`/v1/jobs/${id}/snapshots/${k}`)).slip_bands; } catch (e) { bands = undefined; }
     }
     if (snapshotSelect.value !== String(k)) return;  // another snapshot was chosen meanwhile
     fill(bandsTable, bandTable(bands));

@@ -59,6 +59,7 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
 
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
   std::uint32_t contacts = 0, sliding = 0;
+  double damping = 0, friction = 0, energy = 0;
   for (int k = 0; k < n; ++k) {
     const Vec3 r = sa[k] - sb[k];
     if (r.norm() >= d) {
@@ -74,6 +75,7 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
     moment += (point - c.xa).cross(cf.force);
     ++contacts;
     sliding += cf.sliding;
+    damping += cf.damping, friction += cf.friction, energy += cf.energy;
   }
   ASSERT_GT(contacts, 100u);
   ASSERT_GT(sliding, 10u);
@@ -84,6 +86,12 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
   // i.e. 1e-12 of the overlaps (~1e-5 m): agreement to ~1e-10 relative.
   EXPECT_LT((s.force - force).norm(), 1e-10 * force.norm());
   EXPECT_LT((s.moment - moment).norm(), 1e-10 * moment.norm());
+  // The energy balance's per-step losses and the stored energy (energy_balance.h) are the scalar law's too.
+  ASSERT_GT(friction, 0);
+  ASSERT_GT(damping, 0);
+  EXPECT_NEAR(s.friction, friction, 1e-9 * friction);
+  EXPECT_NEAR(s.damping, damping, 1e-9 * damping);
+  EXPECT_NEAR(s.energy, energy, 1e-9 * energy);
   for (int k = 0; k < n; ++k)
     EXPECT_LT((kernel_hist[k] - scalar_hist[k]).norm(), 1e-10 * scalar_hist[k].norm() + 1e-20) << k;
 }

@@ -116,3 +116,26 @@ TEST(ContactLaw, NormalRestitutionMatchesLinearSpringDashpot) {
 
 }  // namespace
 }  // namespace granulab
+
+namespace granulab {
+namespace {
+
+// The losses the energy balance counts (contact_law.h): steady sliding at speed v loses the Coulomb force times the
+// slip, f F_n v dt a step, to friction and nothing to the tangential dashpot; with no tangential spring (k_t = 0)
+// all of v dt slips, the same loss.
+TEST(ContactLaw, SteadySlidingLosesTheCoulombForceTimesTheSlip) {
+  for (const double ratio : {2.0 / 7, 0.0}) {
+    const ContactLaw l = law(1e5, ratio, 0.1, 0.3);
+    const Vec3 n(0, 0, 1), v(0.1, 0, 0);  // fast enough that c_t v exceeds the cap when there is no spring
+    const double delta = 1e-6, dt = 1e-7, m = 1e-3;
+    Vec3 xi = Vec3::Zero();
+    ContactForce cf{};
+    for (int k = 0; k < 20000; ++k) cf = contact_force(l, n, delta, v, m, dt, xi);  // well past the stick phase
+    ASSERT_TRUE(cf.sliding) << ratio;
+    EXPECT_NEAR(cf.friction, 0.3 * cf.normal * v.norm() * dt, 1e-9 * cf.friction) << ratio;
+    EXPECT_DOUBLE_EQ(cf.damping, 0.0);  // v_n = 0, and the tangential dashpot counts only while sticking
+  }
+}
+
+}  // namespace
+}  // namespace granulab
