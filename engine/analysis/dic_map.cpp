@@ -63,7 +63,7 @@ DicMap dic_map(const GrainSnapshot& s, double step, double subset, std::size_t m
   const std::size_t nodes = std::size_t(m.nx) * std::size_t(m.nz);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (auto* field : {&m.ux, &m.uy, &m.uz, &m.exx, &m.ezz, &m.exz, &m.gamma_max}) field->assign(nodes, nan);
-  const double r2 = m.subset * m.subset, near2 = neighbour * neighbour;
+  const double r2 = m.subset * m.subset, near2 = neighbour * neighbour, min_spread2 = 0.04 * near2;
 #pragma omp parallel for schedule(dynamic, 16) if (nodes > 4096)
   for (long node = 0; node < long(nodes); ++node) {
     const double X = m.x0 + double(node % m.nx) * step, Z = m.z0 + double(node / m.nx) * step;
@@ -88,12 +88,16 @@ DicMap dic_map(const GrainSnapshot& s, double step, double subset, std::size_t m
           ++count;
         }
     if (count < 3 || nearest2 > near2) continue;  // outside the face, or in a hole
-    // Collinear grains leave the gradient undetermined: the normal matrix is then (nearly) singular.
+    // The subset's grains must spread in both directions, or the gradient is undetermined (collinear grains) or
+    // amplifies their non-affine motion without bound (nearly collinear, at a hole's rim): the weighted spread of
+    // their positions about their centroid, its smaller principal value, at least a fifth of a neighbour distance
+    // (a full hexagon has about 0.6).
+    const double w = normal(0, 0), mx = normal(0, 1) / w, mz = normal(0, 2) / w;
+    const double cxx = normal(1, 1) / w - mx * mx, czz = normal(2, 2) / w - mz * mz, cxz = normal(1, 2) / w - mx * mz;
+    const double least = 0.5 * (cxx + czz) - std::sqrt(0.25 * (cxx - czz) * (cxx - czz) + cxz * cxz);
+    if (!(least >= min_spread2)) continue;
     const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
-    // Scale-free: against the product of the diagonal (Hadamard's bound), whatever the subset's size.
-    if (solve.info() != Eigen::Success ||
-        std::abs(normal.determinant()) <= 1e-9 * normal(0, 0) * normal(1, 1) * normal(2, 2))
-      continue;
+    if (solve.info() != Eigen::Success) continue;
     const Eigen::Matrix3d coef = solve.solve(rhs);  // rows: value, d/dX, d/dZ; columns: u_x, u_y, u_z
     Eigen::Matrix<double, 3, 2> F;
     F << 1 + coef(1, 0), coef(2, 0), coef(1, 1), coef(2, 1), coef(1, 2), 1 + coef(2, 2);

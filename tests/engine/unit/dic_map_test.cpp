@@ -100,8 +100,45 @@ TEST(DicMap, AHoleInTheFaceIsLeftBlankAndTheStepIsBounded) {
   // ... and one between the hole and the face's corner is measured.
   const int i2 = int(std::lround((1.5 * kA - m.x0) / m.step)), k2 = int(std::lround((1.5 * kA - m.z0) / m.step));
   EXPECT_FALSE(std::isnan(m.exx[std::size_t(k2) * m.nx + i2]));
+  // Grains that also move non-affinely (by up to 1e-3 of a grain) give strains of that order next to the hole too:
+  // a subset whose grains hardly spread across (its rim) is left blank rather than amplifying their noise.
+  GrainSnapshot noisy = deformed_block(Mat3::Identity(), true);
+  std::uint32_t seed = 12345;
+  for (std::size_t i = 0; i < noisy.id.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      seed = seed * 1664525u + 1013904223u;
+      const double u = 1e-3 * kA * (double(seed >> 8) / double(1u << 24) - 0.5);
+      noisy.position[i][k] += u, noisy.displacement[i][k] += u;
+    }
+  const DicMap rough = dic_map(noisy, 0.1 * kA);
+  double worst = 0;
+  for (double g : rough.gamma_max)
+    if (!std::isnan(g)) worst = std::max(worst, g);
+  EXPECT_LT(worst, 0.01);  // 1e-3 a of noise over subsets ~a across: ~1e-3, a decade of margin
+  EXPECT_GT(worst, 0);
   EXPECT_THROW(dic_map(deformed_block(Mat3::Identity()), 1e-6 * kA), std::invalid_argument);
   EXPECT_THROW(dic_map(deformed_block(Mat3::Identity()), 0), std::invalid_argument);
+}
+
+// A face whose grains all but lie on one line (a hole's rim, a single row) cannot give a gradient across it: such
+// subsets are left blank, not fitted with the grains' small motions divided by their tiny spread.
+TEST(DicMap, GrainsAlmostOnALineGiveNoGradient) {
+  const double D = kA / std::sqrt(2.0);
+  GrainSnapshot s;
+  s.grain_size = kA;
+  s.layer_spacing = kA / 2;
+  for (int i = 0; i < 11; ++i) {
+    const Vec3 ref(i * D, 0, i == 5 ? 1e-4 * D : 0.0);  // one grain a hair off the row
+    const Vec3 u(0, 0, i == 5 ? 1e-4 * D : 0.0);         // ... moving by as much again
+    s.id.push_back(GrainId(std::uint32_t(i)));
+    s.position.push_back(ref + u);
+    s.displacement.push_back(u);
+    s.orientation.push_back(Quat::Identity());
+    if (i > 0) s.interfaces.push_back({GrainId(std::uint32_t(i - 1)), GrainId(std::uint32_t(i))});
+  }
+  const DicMap m = dic_map(s, 0.5 * D);
+  for (std::size_t n = 0; n < m.gamma_max.size(); ++n)
+    EXPECT_TRUE(std::isnan(m.gamma_max[n])) << n << ": " << m.gamma_max[n];
 }
 
 }  // namespace
