@@ -1,87 +1,210 @@
-// The contact law shared by sphere-sphere and sphere-wall contacts (docs/model.md, "Contact law"):
-//   normal      F_n = k_n delta n - c_n v_n                         (paper eq. 3, plus viscous damping)
-//   tangential  xi <- rotate(xi into the current tangent plane) + v_t dt
-//               F_t = -k_t xi - c_t v_t,  |F_t| <= f |F_n|  (on slip xi is reset to match the cap)
-// the "Hooke with shear history" model (Cundall & Strack 1979; Silbert et al. 2001, Phys. Rev. E 64,
-// 051302; Zhang & Makse 2005), which the paper ran in LAMMPS' granular package.
-// Damping is a ratio zeta of the critical value for the pair: c_n = 2 zeta sqrt(k_n m_eff), so the
-// normal coefficient of restitution is e = exp(-pi zeta / sqrt(1 - zeta^2)); c_t = c_n / 2.
+// The contact law, written once (docs/model.md, "Contact law" and "Interface laws"): contact_terms() below is what
+// every path evaluates, the vectorised sphere-sphere loop (pair_kernel.cpp, across candidates) and the scalar
+// sphere-wall one (contact_force()). Its laws and their parameters carry LAMMPS' pair_style granular names:
+//   normal      hooke           F_ne = k_n delta                                        (the paper's, eq. 3)
+//               hertz           F_ne = k_N sqrt(R* delta) delta                         (k_N in Pa)
+//               hertz/material  the same with k_N = 4/3 E*, E* = E / (2 (1 - nu^2))
+//               dmt             hertz/material - 4 pi gamma R*          (attracts while delta > 0)
+//               jkr             F_ne = 4 E* a^3 / (3 R*) - 4 sqrt(pi gamma E* a^3),  delta = a^2 / R* - 2 sqrt(pi gamma a / E*)
+//                               made at delta >= 0, kept until delta < -delta_c (pull-off, hysteresis)
+//   tangential  linear_history  xi <- rotate(xi into the current tangent plane) + v_t dt,  F_t = -k_t xi - c_t v_t
+//               mindlin         the same with the spring k_t a (k_t = 8 G*, Pa; a the contact radius)
+//   Coulomb     |F_t| <= f F_n0, F_n0 = |F_n| (damping included), cohesive laws |F_ne + 2 F_pulloff|; on slip xi is reset
+//               to match the cap
+// Damping is a ratio zeta of the critical value for the pair's tangent stiffness: c_n = 2 zeta sqrt(k m_eff) with
+// k = k_n (hooke) or dF_ne/d delta of the Hertz part, 2 E* a (hertz family: k_N 3 a / 2), so c_n grows as sqrt(a);
+// c_t = c_n / 2. With hooke the normal restitution coefficient of one pair is e = exp(-pi zeta / sqrt(1 - zeta^2)).
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include "engine/core/types.h"
 
 namespace granulab {
 
+enum class NormalModel : std::uint8_t { hooke, hertz, hertz_material, dmt, jkr };
+enum class TangentialModel : std::uint8_t { linear_history, mindlin };
+
+std::string to_string(NormalModel m);
+std::string to_string(TangentialModel m);
+/// LAMMPS' name ("hooke", "hertz/material", ...) to the model; false when unknown.
+bool normal_model_from_string(const std::string& name, NormalModel& out);
+bool tangential_model_from_string(const std::string& name, TangentialModel& out);
+
 struct ContactLaw {
-  double normal_stiffness = 0;      ///< k_n (N/m)
-  double tangential_stiffness = 0;  ///< k_t (N/m)
+  double normal_stiffness = 0;      ///< hooke: k_n (N/m); hertz family: k_N (Pa) of F_ne = k_N sqrt(R* delta) delta
+  double tangential_stiffness = 0;  ///< linear_history: k_t (N/m); mindlin: k_t (Pa) of the spring k_t a
   double damping_ratio = 0;         ///< zeta, fraction of critical damping of one pair (-)
   double friction = 0;              ///< Coulomb coefficient f (-)
+  double surface_energy = 0;        ///< gamma (J/m^2), dmt and jkr: pull-off 4 pi gamma R* (dmt), 3 pi gamma R* (jkr)
+  double effective_modulus = 0;     ///< E* (Pa): jkr's contact radius (hertz/material, dmt: k_N = 4/3 E*)
+  NormalModel normal = NormalModel::hooke;
+  TangentialModel tangential = TangentialModel::linear_history;
+
+  bool cohesive() const { return normal == NormalModel::dmt || normal == NormalModel::jkr; }
+  /// Whether a pair's contact outlives delta = 0 (jkr): candidates then carry a bond flag.
+  bool keeps_bonds() const { return normal == NormalModel::jkr; }
+  /// The force of one pair of effective radius r_eff (m) at pull-off (N): 0 without cohesion.
+  double pulloff_force(double r_eff) const;
+  /// How far past delta = 0 a bonded jkr pair holds (m, positive): delta_c at the contact radius of largest tension.
+  double pulloff_distance(double r_eff) const;
 };
 
-struct ContactForce {
-  Vec3 force;     ///< force on the first body (N)
-  double normal;  ///< signed normal force magnitude, compressive positive (N)
-  bool sliding;   ///< true when the Coulomb cap was active
-  double energy;    ///< elastic energy stored after the step, k_n delta^2 / 2 + k_t |xi|^2 / 2 (J)
-  double damping;   ///< energy the dashpots took in the step (J): dt (c_n v_n^2 + c_t |v_t|^2), the tangential
-                    ///< one only while sticking (sliding, the capped force is all friction's)
-  double friction;  ///< energy lost to sliding in the step (J): the Coulomb force times the slip, i.e. the part
-                    ///< of v_t dt the spring did not take (0 while sticking; 0 for f = 0)
+/// The law's constants for one pair of bodies (effective radius and mass), hoisted out of loops over its contacts.
+struct PairLaw {
+  double kn = 0, kt = 0;  ///< as ContactLaw's normal_stiffness and tangential_stiffness
+  double cn = 0, ct = 0;  ///< hooke: c_n, c_t (N s/m); otherwise their value per sqrt(a) (N s / m^1.5)
+  double mu = 0, dt = 0;  ///< Coulomb f (-), time step (s)
+  double r_eff = 0;       ///< R* (m)
+  double pulloff = 0;     ///< F_pulloff (N), cohesive laws
+  double jkr_p = 0;       ///< jkr: 2 R* sqrt(pi gamma / E*) (m^1.5), so that delta R* = x^4 - jkr_p x with x = sqrt(a)
+  double jkr_w = 0;       ///< jkr: 4 sqrt(pi gamma E*) (N / m^1.5)
+  double jkr_e = 0;       ///< jkr: 4 E* / (3 R*) (N / m^3)
+  double break_depth = 0;   ///< jkr: delta_c (m), a bond breaks below -delta_c
+  double break_energy = 0;  ///< jkr: the pair's stored energy at pull-off (J, negative: still bound there)
 };
 
-/// Normal damping coefficient c_n = 2 zeta sqrt(k_n m_eff) (N s/m) of a pair with effective mass m_eff.
+/// Normal damping coefficient c_n = 2 zeta sqrt(k_n m_eff) (N s/m) of a Hooke pair with effective mass m_eff.
 inline double damping_coefficient(const ContactLaw& law, double m_eff) {
   return 2 * law.damping_ratio * std::sqrt(law.normal_stiffness * m_eff);
 }
 
-/// Force on body i from a contact with unit normal `n` (pointing from j to i), overlap `delta` > 0 (m),
-/// relative velocity of i with respect to j at the contact point `v_rel` (m/s), normal damping
-/// coefficient `c_n` (damping_coefficient(), hoisted out of loops over one grain pair), time step `dt`
-/// (s). Updates the shear history `xi` (m) in place.
-inline ContactForce contact_force(const ContactLaw& law, double c_n, const Vec3& n, double delta, const Vec3& v_rel,
-                                  double dt, Vec3& xi) {
-  const double c_t = c_n / 2;
-  const double vn = v_rel.dot(n);
-  const Vec3 v_t = v_rel - vn * n;
-  const double fn = law.normal_stiffness * delta - c_n * vn;
+/// `law`'s constants for a pair of effective radius r_eff (m) and mass m_eff (kg), time step dt (s).
+PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt);
 
-  // Keep the history in the current tangent plane with its length unchanged (the plane rotates
-  // with the contact; the spring must neither grow nor shrink from that rotation).
-  const double xi_len2 = xi.squaredNorm();
-  xi -= xi.dot(n) * n;
-  const double proj2 = xi.squaredNorm();
-  if (proj2 > 0) xi *= std::sqrt(xi_len2 / proj2);
-  xi += v_t * dt;
+/// One contact's outcome: force on the first body along the normal and tangent, and the step's energy terms.
+struct ContactTerms {
+  double fx, fy, fz;  ///< force on the first body (N); 0 when not in contact
+  double normal;      ///< signed normal force, compressive positive (N)
+  double overlap;     ///< delta while in contact, else 0 (m)
+  double energy;      ///< stored after the step (J): the normal law's potential plus the spring's k |xi|^2 / 2
+  double damping;     ///< the dashpots' work in the step (J), the tangential one only while sticking; jkr: plus the
+                      ///< stored energy a bond gives up when it is made or broken (the adhesion hysteresis)
+  double friction;    ///< sliding's loss in the step (J): the Coulomb force times the slip
+  bool contact, slip;
+};
 
-  Vec3 ft = -law.tangential_stiffness * xi - c_t * v_t;
-  const double cap = law.friction * std::abs(fn);
-  const double ft2 = ft.squaredNorm();
-  bool sliding = false;
-  double friction = 0;
-  if (ft2 > cap * cap) {
-    sliding = true;
-    const double scale = cap / std::sqrt(ft2);  // ft2 > cap^2 >= 0
-    ft *= scale;
-    if (law.tangential_stiffness > 0) {
-      xi = -(ft + c_t * v_t) / law.tangential_stiffness;
-      friction = scale * (1 - scale) * ft2 / law.tangential_stiffness;  // cap x |xi_trial - xi|
-    } else {
-      xi = Vec3::Zero();
-      friction = cap * v_t.norm() * dt;  // no spring: all of v_t dt slips
-    }
+/// The law for one candidate: unit normal (nx, ny, nz) from the second body to the first, overlap `delta` (m,
+/// negative when apart), `touching` (the centres closer than the contact distance, as the caller measured it),
+/// relative velocity of the first body at the contact point (vx, vy, vz) (m/s). Updates the shear history (hx, hy,
+/// hz) (m) and, for jkr, the bond flag (1 bonded, 0 not): a pair out of contact forgets both. Branch-free (selects
+/// only), so the kernel's loop vectorises across candidates; N and T are fixed per run.
+template <NormalModel N, TangentialModel T>
+inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& c, double delta, bool touching, double nx,
+                                                                 double ny, double nz, double vx, double vy, double vz,
+                                                                 double& hx_io, double& hy_io, double& hz_io,
+                                                                 double& bond_io) {
+  constexpr bool hooke = N == NormalModel::hooke, jkr = N == NormalModel::jkr;
+  constexpr bool cohesive = N == NormalModel::dmt || jkr, mindlin = T == TangentialModel::mindlin;
+  const double kn = c.kn, dt = c.dt;
+  // A jkr bond holds past delta = 0 down to -delta_c; every other law touches while the centres are within reach.
+  const bool bonded = jkr && bond_io > 0;
+  const bool contact = jkr ? (touching || (bonded && delta > -c.break_depth)) : touching;
+
+  // Contact radius a: sqrt(R* delta) for the Hertz family and mindlin; jkr's from the depressed quartic in x = sqrt(a),
+  // x^4 - p x - R* delta = 0, by Ferrari (m the root of the resolvent cubic m^3 + R* delta m - p^2 / 8 = 0, the single
+  // real one for every delta above -delta_c) and the larger root x = (s + sqrt(2 p / s - s^2)) / 2, s = sqrt(2 m).
+  double a = 0, x = 0;
+  if constexpr (jkr) {
+    const double P = c.r_eff * delta, Q = -c.jkr_p * c.jkr_p / 8;
+    const double disc = std::sqrt(std::max(Q * Q / 4 + P * P * P / 27, 0.0));
+    double m = std::cbrt(-Q / 2 + disc) + std::cbrt(-Q / 2 - disc);
+    m = std::max(m - (m * m * m + P * m + Q) / (3 * m * m + P), 1e-300);  // Newton: Cardano's sum cancels deep in
+    const double s = std::sqrt(2 * m);
+    x = 0.5 * (s + std::sqrt(std::max(2 * c.jkr_p / s - s * s, 0.0)));
+    a = x * x;
+  } else if constexpr (!hooke || mindlin) {
+    a = std::sqrt(c.r_eff * std::max(delta, 0.0));
   }
-  const double energy = 0.5 * law.normal_stiffness * delta * delta + 0.5 * law.tangential_stiffness * xi.squaredNorm();
-  const double damping = dt * (c_n * vn * vn + (sliding ? 0.0 : c_t * v_t.squaredNorm()));
-  return {fn * n + ft, fn, sliding, energy, damping, friction};
+
+  // Normal force: elastic part and damping.
+  double fe;
+  if constexpr (hooke) fe = kn * delta;
+  else if constexpr (jkr) fe = c.jkr_e * a * a * a - c.jkr_w * a * x;
+  else fe = kn * a * delta - (cohesive ? c.pulloff : 0.0);
+  const double cn = hooke ? c.cn : c.cn * std::sqrt(a), ct = hooke ? c.ct : 0.5 * cn;
+  const double kt = mindlin ? c.kt * a : c.kt;
+  const double inv_kt = kt > 0 ? 1 / kt : 0;
+  // The sliding loss is cap x slip: s (1 - s) |g|^2 / k_t with a spring; without one (k_t = 0, g = -c_t v_t) all of
+  // v_t dt slips, cap |v_t| dt = s |g|^2 dt / c_t.
+  const double spring = kt > 0 ? 1.0 : 0.0, loss = kt > 0 ? inv_kt : (ct > 0 ? dt / ct : 0.0);
+  const double vn = vx * nx + vy * ny + vz * nz;
+  const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;
+  const double fn = fe - cn * vn;
+
+  // Shear history: into the current tangent plane, length kept, then the tangential increment.
+  double hx = hx_io, hy = hy_io, hz = hz_io;
+  const double len2 = hx * hx + hy * hy + hz * hz;
+  const double along = hx * nx + hy * ny + hz * nz;
+  hx -= along * nx, hy -= along * ny, hz -= along * nz;
+  const double proj2 = hx * hx + hy * hy + hz * hz;
+  const double keep = proj2 > 0 ? std::sqrt(len2 / proj2) : 1.0;
+  hx = hx * keep + tx * dt, hy = hy * keep + ty * dt, hz = hz * keep + tz * dt;
+
+  // Tangential force with the Coulomb cap; on slip the spring is reset to match the cap.
+  double gx = -kt * hx - ct * tx, gy = -kt * hy - ct * ty, gz = -kt * hz - ct * tz;
+  const double cap = c.mu * std::abs(cohesive ? fe + 2 * c.pulloff : fn);
+  const double g2 = gx * gx + gy * gy + gz * gz;
+  const bool slip = g2 > cap * cap;
+  const double scale = slip ? cap / std::sqrt(g2) : 1.0;
+  gx *= scale, gy *= scale, gz *= scale;
+  hx = slip ? -(gx + ct * tx) * inv_kt : hx;
+  hy = slip ? -(gy + ct * ty) * inv_kt : hy;
+  hz = slip ? -(gz + ct * tz) * inv_kt : hz;
+
+  // Pairs out of contact forget their history and exert nothing.
+  hx_io = contact ? hx : 0.0, hy_io = contact ? hy : 0.0, hz_io = contact ? hz : 0.0;
+  ContactTerms out;
+  out.fx = contact ? fn * nx + gx : 0.0, out.fy = contact ? fn * ny + gy : 0.0, out.fz = contact ? fn * nz + gz : 0.0;
+  out.normal = contact ? fn : 0.0;
+  out.contact = contact;
+  out.slip = contact && slip;
+  out.overlap = contact ? delta : 0.0;
+  // The normal law's potential, zero at first touch: hooke k_n delta^2 / 2; Hertz 2/5 F delta; dmt minus the
+  // attraction's F_pulloff delta; jkr the integral of F along its curve from a = 0, 8 E* a^5 / (15 R*^2) -
+  // 2/3 jkr_w a^3 x / R* + 2 pi gamma a^2 (2 pi gamma = jkr_w^2 / (8 E*) = jkr_w^2 / (6 jkr_e R*)).
+  double potential;
+  if constexpr (hooke) potential = 0.5 * kn * delta * delta;
+  else if constexpr (jkr) {
+    const double a2 = a * a;
+    potential = a2 * (0.4 * c.jkr_e * a2 * a / c.r_eff - (2.0 / 3) * c.jkr_w * a * x / c.r_eff +
+                      c.jkr_w * c.jkr_w / (6 * c.jkr_e * c.r_eff));
+  } else potential = 0.4 * kn * a * delta * delta - (cohesive ? c.pulloff * delta : 0.0);
+  out.energy = contact ? potential + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
+  // This step's losses: the dashpots' work, the tangential one only while sticking, and on slip the Coulomb force
+  // times the slip, cap (1 - scale) |g| / k_t.
+  out.damping = contact ? dt * (cn * vn * vn + (slip ? 0.0 : ct * (tx * tx + ty * ty + tz * tz))) : 0.0;
+  if constexpr (jkr) {
+    // A bond made jumps onto the curve below zero energy (the snap-in gives up -potential); one broken leaves it at
+    // break_energy and returns to zero. Both are the adhesion hysteresis, counted with the losses.
+    out.damping += (contact && !bonded ? -potential : 0.0) + (bonded && !contact ? c.break_energy : 0.0);
+    bond_io = contact ? 1.0 : 0.0;
+  }
+  out.friction = contact && slip ? scale * (1 - spring * scale) * g2 * loss : 0.0;
+  return out;
 }
 
-/// The same with the effective mass m_eff (kg) instead of the damping coefficient.
-inline ContactForce contact_force(const ContactLaw& law, const Vec3& n, double delta, const Vec3& v_rel, double m_eff,
-                                  double dt, Vec3& xi) {
-  return contact_force(law, damping_coefficient(law, m_eff), n, delta, v_rel, dt, xi);
-}
+/// The scalar form for one contact, as the sphere-wall loop and the tests use it.
+struct ContactForce {
+  Vec3 force;       ///< force on the first body (N)
+  double normal;    ///< signed normal force magnitude, compressive positive (N)
+  bool sliding;     ///< true when the Coulomb cap was active
+  double energy;    ///< stored after the step (J), as ContactTerms
+  double damping;   ///< the dashpots' work in the step (J), as ContactTerms
+  double friction;  ///< sliding's loss in the step (J), as ContactTerms
+};
+
+/// Force on body i from a contact with unit normal `n` (pointing from j to i), overlap `delta` (m; in contact while
+/// positive, or for a bonded jkr pair down to -delta_c), relative velocity of i with respect to j at the contact
+/// point `v_rel` (m/s), under the pair's constants `c` (pair_law()). Updates the shear history `xi` (m) and `bond`
+/// in place; the law is chosen at run time (once per call: loops over many contacts use contact_terms directly).
+ContactForce contact_force(const ContactLaw& law, const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel,
+                           Vec3& xi, double& bond);
+
+/// The same for a non-bonding pair of effective radius r_eff (m) and mass m_eff (kg).
+ContactForce contact_force(const ContactLaw& law, const Vec3& n, double delta, const Vec3& v_rel, double r_eff,
+                           double m_eff, double dt, Vec3& xi);
 
 }  // namespace granulab

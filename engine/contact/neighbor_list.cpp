@@ -252,6 +252,9 @@ void NeighborList::search_and_merge(const Bodies& bodies) {
       std::copy(old_history_.x.begin() + ko_begin, old_history_.x.begin() + ko_end, history_.x.begin() + gp.first);
       std::copy(old_history_.y.begin() + ko_begin, old_history_.y.begin() + ko_end, history_.y.begin() + gp.first);
       std::copy(old_history_.z.begin() + ko_begin, old_history_.z.begin() + ko_end, history_.z.begin() + gp.first);
+      if (history_.bonds)
+        std::copy(old_history_.bond.begin() + ko_begin, old_history_.bond.begin() + ko_end,
+                  history_.bond.begin() + gp.first);
       continue;
     }
     const std::uint32_t* src = thread_keys_[pair_thread_[p]].data() + pair_offset_[p];
@@ -260,7 +263,10 @@ void NeighborList::search_and_merge(const Bodies& bodies) {
     std::uint32_t ko = ko_begin;
     for (std::uint32_t k = gp.first; k < gp.first + gp.count; ++k) {
       while (ko < ko_end && old_keys_[ko] < keys_[k]) ++ko;
-      history_.set(k, (ko < ko_end && old_keys_[ko] == keys_[k]) ? old_history_.get(ko) : Vec3::Zero());
+      if (ko < ko_end && old_keys_[ko] == keys_[k])
+        history_.take(k, old_history_, ko);
+      else
+        history_.clear(k);
     }
   }
 }

@@ -49,14 +49,28 @@ inline std::uint64_t wall_pair_key(std::uint32_t wall, std::uint32_t sphere) {
 
 /// The shear displacement of every sphere-pair candidate (m), one array per component: the contact loop
 /// then loads and stores each component of consecutive pairs as one vector, where an array of Vec3
-/// (every third double) cost eight scalar loads and a scatter per component.
+/// (every third double) cost eight scalar loads and a scatter per component. A law whose contacts outlive
+/// delta = 0 (jkr) also keeps each candidate's bond flag (1 bonded, 0 not); other laws leave `bond` empty.
 struct ShearHistory {
-  std::vector<double> x, y, z;
+  std::vector<double> x, y, z, bond;
+  bool bonds = false;  ///< whether `bond` is kept
 
   std::size_t size() const { return x.size(); }
-  void resize(std::size_t n) { x.resize(n), y.resize(n), z.resize(n); }
+  void resize(std::size_t n) {
+    x.resize(n), y.resize(n), z.resize(n);
+    if (bonds) bond.resize(n);
+  }
   Vec3 get(std::size_t k) const { return {x[k], y[k], z[k]}; }
   void set(std::size_t k, const Vec3& v) { x[k] = v.x(), y[k] = v.y(), z[k] = v.z(); }
+  /// Candidate k takes candidate o's history (and bond) from `from`.
+  void take(std::size_t k, const ShearHistory& from, std::size_t o) {
+    x[k] = from.x[o], y[k] = from.y[o], z[k] = from.z[o];
+    if (bonds) bond[k] = from.bond[o];
+  }
+  void clear(std::size_t k) {
+    x[k] = y[k] = z[k] = 0;
+    if (bonds) bond[k] = 0;
+  }
 };
 
 /// What the last update() did.
@@ -72,6 +86,8 @@ class NeighborList {
   /// `offsets`: template body-frame sphere centres; `diameter` of every sphere; `skin` (m); `min_scale`:
   /// the smallest Bodies::scale to expect (grains are never larger than the template).
   NeighborList(const std::vector<Vec3>& offsets, double diameter, double skin, double min_scale = 1);
+  /// Keep a bond flag per candidate (a law whose contacts outlive delta = 0); call before the first update().
+  void keep_bonds() { history_.bonds = old_history_.bonds = true; }
 
   /// Brings the candidates up to date with the bodies' poses and the walls (call before every force
   /// evaluation); cheap when nothing has drifted.
@@ -106,6 +122,7 @@ class NeighborList {
     a.values(list.history_.x);
     a.values(list.history_.y);
     a.values(list.history_.z);
+    a.values(list.history_.bond);
     a.values(list.broad_position_);
     a.values(list.wall_keys_);
     a.values(list.wall_history_);

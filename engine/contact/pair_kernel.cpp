@@ -62,14 +62,12 @@ struct Contribution {
   std::uint32_t contact, slip;
 };
 
-// The law of contact_law.h for one candidate, updating its shear history (hx, hy, hz) in place.
+// One candidate: its geometry, then the law (contact_terms), then the moment about x_a.
+template <NormalModel N, TangentialModel T>
 inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r,
-                                                           double& hx_io, double& hy_io, double& hz_io) {
-  const double d = c.diameter, radius = c.radius, kn = c.kn, kt = c.kt, cn = c.cn, ct = c.ct;
-  const double mu = c.friction, dt = c.dt, inv_kt = kt > 0 ? 1 / kt : 0;
-  // The sliding loss is cap x slip: s (1 - s) |g|^2 / k_t with a spring; without one (k_t = 0, g = -c_t v_t) all of
-  // v_t dt slips, cap |v_t| dt = s |g|^2 dt / c_t. Constants of the pair, so no branch in the loop.
-  const double spring = kt > 0 ? 1.0 : 0.0, loss = kt > 0 ? inv_kt : (ct > 0 ? dt / ct : 0.0);
+                                                           double& hx_io, double& hy_io, double& hz_io,
+                                                           double& bond_io) {
+  const double d = c.diameter, radius = c.radius;
   const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
   const bool touching = dist2 < d * d;
   const double inv = 1 / std::sqrt(dist2);
@@ -80,73 +78,51 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
   const double px = r.ax - lever * nx, py = r.ay - lever * ny, pz = r.az - lever * nz;
   const double vx = c.v0.x() + c.dw.y() * pz - c.dw.z() * py, vy = c.v0.y() + c.dw.z() * px - c.dw.x() * pz,
                vz = c.v0.z() + c.dw.x() * py - c.dw.y() * px;
-  const double vn = vx * nx + vy * ny + vz * nz;
-  const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;
-  const double fn = kn * delta - cn * vn;
-
-  // Shear history: into the current tangent plane, length kept, then the tangential increment.
-  double hx = hx_io, hy = hy_io, hz = hz_io;
-  const double len2 = hx * hx + hy * hy + hz * hz;
-  const double along = hx * nx + hy * ny + hz * nz;
-  hx -= along * nx, hy -= along * ny, hz -= along * nz;
-  const double proj2 = hx * hx + hy * hy + hz * hz;
-  const double keep = proj2 > 0 ? std::sqrt(len2 / proj2) : 1.0;
-  hx = hx * keep + tx * dt, hy = hy * keep + ty * dt, hz = hz * keep + tz * dt;
-
-  // Tangential force with the Coulomb cap; on slip the spring is reset to match the cap.
-  double gx = -kt * hx - ct * tx, gy = -kt * hy - ct * ty, gz = -kt * hz - ct * tz;
-  const double cap = mu * std::abs(fn);
-  const double g2 = gx * gx + gy * gy + gz * gz;
-  const bool slip = g2 > cap * cap;
-  const double scale = slip ? cap / std::sqrt(g2) : 1.0;
-  gx *= scale, gy *= scale, gz *= scale;
-  hx = slip ? -(gx + ct * tx) * inv_kt : hx;
-  hy = slip ? -(gy + ct * ty) * inv_kt : hy;
-  hz = slip ? -(gz + ct * tz) * inv_kt : hz;
-
-  // Separated pairs forget their history and exert nothing.
-  hx_io = touching ? hx : 0.0, hy_io = touching ? hy : 0.0, hz_io = touching ? hz : 0.0;
+  const ContactTerms t =
+      contact_terms<N, T>(c.law, delta, touching, nx, ny, nz, vx, vy, vz, hx_io, hy_io, hz_io, bond_io);
   Contribution out;
-  out.fx = touching ? fn * nx + gx : 0.0, out.fy = touching ? fn * ny + gy : 0.0,
-  out.fz = touching ? fn * nz + gz : 0.0;
+  out.fx = t.fx, out.fy = t.fy, out.fz = t.fz;
   out.mx = py * out.fz - pz * out.fy, out.my = pz * out.fx - px * out.fz, out.mz = px * out.fy - py * out.fx;
-  out.contact = touching;
-  out.slip = touching && slip;
-  out.overlap = touching ? delta : 0.0;
-  out.energy = touching ? 0.5 * kn * delta * delta + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
-  // This step's losses (contact_law.h): the dashpots' work, the tangential one only while sticking, and
-  // on slip the Coulomb force times the slip, cap (1 - scale) |g| / k_t.
-  out.damping = touching ? dt * (cn * vn * vn + (slip ? 0.0 : ct * (tx * tx + ty * ty + tz * tz))) : 0.0;
-  out.friction = touching && slip ? scale * (1 - spring * scale) * g2 * loss : 0.0;
+  out.contact = t.contact;
+  out.slip = t.slip;
+  out.overlap = t.overlap, out.energy = t.energy, out.damping = t.damping, out.friction = t.friction;
   return out;
 }
 
-}  // namespace
-
+template <NormalModel N, TangentialModel T>
 PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offsets, const std::uint32_t* keys,
                              std::uint32_t count, double* history_x, double* history_y, double* history_z,
-                             std::uint32_t* touching_scratch) {
+                             double* bond_flags, std::uint32_t* touching_scratch) {
+  constexpr bool bonds = N == NormalModel::jkr;
   const Frame f(c);
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0, damping = 0, friction = 0;
   std::uint32_t contacts = 0, sliding = 0;
+  // A law without bonds gets a scratch flag per candidate that it never reads.
+  double unused = 0;
 
   if (!touching_scratch) {
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
     for (std::uint32_t k = 0; k < count; ++k) {
-      const Contribution q = contact(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k]);
+      double& bond = bonds ? bond_flags[k] : unused;
+      const Contribution q =
+          contact<N, T>(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k], bond);
       fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
       overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
       contacts += q.contact, sliding += q.slip;
     }
   } else {
-    // Pass 1, every candidate: the distance only; separated pairs forget their history here.
+    // Pass 1, every candidate: the distance only; pairs out of reach forget their history (and bond) here. A bonded
+    // jkr pair reaches to d + delta_c.
     std::uint32_t* flag = touching_scratch;
+    const double d2 = f.d2, bonded_reach = c.diameter + c.law.break_depth, bonded_d2 = bonded_reach * bonded_reach;
 #pragma omp simd
     for (std::uint32_t k = 0; k < count; ++k) {
       const Relative r = relative(f, offsets, keys[k]);
-      const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < f.d2;
+      const double reach2 = bonds && bond_flags[k] > 0 ? bonded_d2 : d2;
+      const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < reach2;
       flag[k] = touching;
       if (!touching) history_x[k] = 0.0, history_y[k] = 0.0, history_z[k] = 0.0;
+      if (bonds && !touching) bond_flags[k] = 0.0;
     }
     // Pass 2, the indices of the touching ones (in place: n <= k), then the law on them only.
     std::uint32_t n = 0;
@@ -159,7 +135,9 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
     for (std::uint32_t m = 0; m < n; ++m) {
       const std::uint32_t k = index[m];
-      const Contribution q = contact(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k]);
+      double& bond = bonds ? bond_flags[k] : unused;
+      const Contribution q =
+          contact<N, T>(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k], bond);
       fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
       overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
       contacts += q.contact, sliding += q.slip;
@@ -171,6 +149,25 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
   s.contacts = contacts, s.sliding = sliding, s.overlap = overlap, s.energy = energy;
   s.damping = damping, s.friction = friction;
   return s;
+}
+
+template <NormalModel N>
+PairKernel kernel_of(TangentialModel t) {
+  return t == TangentialModel::mindlin ? &pair_contacts<N, TangentialModel::mindlin>
+                                       : &pair_contacts<N, TangentialModel::linear_history>;
+}
+
+}  // namespace
+
+PairKernel pair_kernel(const ContactLaw& law) {
+  switch (law.normal) {
+    case NormalModel::hooke: return kernel_of<NormalModel::hooke>(law.tangential);
+    case NormalModel::hertz: return kernel_of<NormalModel::hertz>(law.tangential);
+    case NormalModel::hertz_material: return kernel_of<NormalModel::hertz_material>(law.tangential);
+    case NormalModel::dmt: return kernel_of<NormalModel::dmt>(law.tangential);
+    case NormalModel::jkr: return kernel_of<NormalModel::jkr>(law.tangential);
+  }
+  return nullptr;
 }
 
 }  // namespace granulab

@@ -1,7 +1,7 @@
 // The sphere-sphere contact loop of one grain pair, written for SIMD: plain arrays, no branches in
 // the body (selects instead), so the compiler vectorises it across contacts (AVX2/AVX-512 with
-// -march=native). It computes exactly the law of contact_law.h (tested against it), with the shear
-// history rotation done by the exact rescale sqrt(|xi|^2 / |xi_proj|^2) (a vector sqrt is cheap).
+// -march=native). Per candidate it measures the geometry and calls contact_law.h's contact_terms, the one
+// evaluator of the law, compiled once per pair of normal and tangential models (pair_kernel()).
 // Sphere positions are computed from the two grains' poses and the shared template offsets, which
 // stay in cache, rather than loaded from a per-sphere array that does not (at 841,536 spheres the
 // loads missed the cache and cost 4x the arithmetic).
@@ -15,13 +15,12 @@
 namespace granulab {
 
 struct PairKernelConstants {
-  double diameter, radius;  ///< m
-  double kn, kt, cn, ct;    ///< N/m and N s/m for this grain pair
-  double friction, dt;
-  Vec3 xa, xb;  ///< centres of grains a and b (m)
-  Mat3 ra, rb;  ///< their orientations (body -> world)
-  Vec3 v0;      ///< v_a - v_b - w_b x (x_a - x_b): relative velocity at x_a (m/s)
-  Vec3 dw;      ///< w_a - w_b (rad/s)
+  double diameter, radius;  ///< contact distance and sphere a's radius (m)
+  PairLaw law;              ///< the law's constants for this grain pair (pair_law())
+  Vec3 xa, xb;              ///< centres of grains a and b (m)
+  Mat3 ra, rb;              ///< their orientations (body -> world)
+  Vec3 v0;                  ///< v_a - v_b - w_b x (x_a - x_b): relative velocity at x_a (m/s)
+  Vec3 dw;                  ///< w_a - w_b (rad/s)
 };
 
 struct PairKernelSums {
@@ -43,12 +42,16 @@ struct OffsetArrays {
 };
 
 /// Contacts between the spheres of grains a and b (template body-frame `offsets`) for the `count`
-/// sphere-pair keys at `keys`, updating their shear histories (components at hx, hy, hz).
+/// sphere-pair keys at `keys`, updating their shear histories (components at hx, hy, hz) and, for a law that keeps
+/// bonds (jkr), their bond flags at `bond` (nullptr otherwise).
 /// With `touching_scratch` (room for `count` values), the distances are computed first and the law only
 /// for the touching pairs: cheaper when most candidates do not touch (sliding faces, loose packings),
 /// dearer when nearly all do. The physics is the same; the sums' rounding differs.
-PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offsets, const std::uint32_t* keys,
-                             std::uint32_t count, double* hx, double* hy, double* hz,
-                             std::uint32_t* touching_scratch = nullptr);
+using PairKernel = PairKernelSums (*)(const PairKernelConstants& c, const OffsetArrays& offsets,
+                                      const std::uint32_t* keys, std::uint32_t count, double* hx, double* hy,
+                                      double* hz, double* bond, std::uint32_t* touching_scratch);
+
+/// The kernel of `law`'s normal and tangential models: chosen once per run, each compiled for its law.
+PairKernel pair_kernel(const ContactLaw& law);
 
 }  // namespace granulab

@@ -9,12 +9,25 @@
 
 namespace granulab {
 
+/// The interface law between grains (the "contact" section), with LAMMPS pair_style granular's names.
+struct InterfaceLaw {
+  NormalModel normal = NormalModel::hooke;
+  TangentialModel tangential = TangentialModel::linear_history;
+  double poisson_ratio = 0.3;    ///< nu of the grains' material (hertz/material, dmt, jkr, mindlin)
+  double surface_energy = 0;     ///< gamma (J/m^2), dmt and jkr
+  double hertz_stiffness = 0;    ///< k_N of `hertz` (Pa); its spec default is 4/3 E* of the material
+};
+
+/// E* = E / (2 (1 - nu^2)) of two spheres of one material (Pa).
+double effective_modulus(double youngs_modulus, double poisson_ratio);
+
 struct Material {
   double youngs_modulus = 3.0e9;                ///< E of the grain material (Pa)
   double density = 1200;                        ///< kg/m^3
   double friction = 0.35;                       ///< Coulomb coefficient between spheres and on walls
   double tangential_stiffness_ratio = 2.0 / 7;  ///< k_t / k_n
   double damping = 0.05;                        ///< damping ratio zeta of one sphere pair
+  InterfaceLaw contact;                         ///< the law between spheres of different grains
 };
 
 /// k_n (N/m) for the given grain and modulus.

@@ -27,7 +27,33 @@ void visit_material(ParameterVisitor& v, Material& m) {
   v.number("density", m.density, {0, 1e5, true}, "kg/m^3", "mass and inertia of the solid polyhedron");
   v.number("friction", m.friction, {0, 10}, "-", "Coulomb f, sphere-sphere and sphere-wall");
   v.number("tangential_stiffness_ratio", m.tangential_stiffness_ratio, {0, 1}, "-", "k_t / k_n");
-  v.number("damping", m.damping, {0, 0.99}, "-", "zeta, fraction of critical damping of one sphere pair");
+  v.number("damping", m.damping, {0, 0.99}, "-",
+           "zeta, fraction of critical damping of one sphere pair (Hertz family: of its tangent stiffness 2 E* a)");
+  visit_interface_law(v, m);
+}
+
+void visit_interface_law(ParameterVisitor& v, Material& m) {
+  InterfaceLaw& c = m.contact;
+  v.section("contact");
+  std::string normal = to_string(c.normal), tangential = to_string(c.tangential);
+  v.choice("normal", normal, {"hooke", "hertz", "hertz/material", "dmt", "jkr"},
+           "normal law between spheres, as LAMMPS pair_style granular names it: hooke (the paper's, k_n from the face), "
+           "hertz (k_N sqrt(R* delta) delta), hertz/material (k_N = 4/3 E*, E* = E / (2 (1 - nu^2))), dmt (hertz/material "
+           "- 4 pi gamma R*), jkr (adhesive, held to the pull-off distance); R* = d / 4 between spheres");
+  normal_model_from_string(normal, c.normal);
+  v.choice("tangential", tangential, {"linear_history", "mindlin"},
+           "tangential spring: linear_history (k_t = material.tangential_stiffness_ratio x hooke's k_n), mindlin "
+           "(k_t a, k_t = 8 G* = 2 E / ((2 - nu) (1 + nu)), a the contact radius)");
+  tangential_model_from_string(tangential, c.tangential);
+  v.number("poisson_ratio", c.poisson_ratio, {-0.99, 0.5}, "-", "nu of the grains' material (hertz/material, dmt, jkr, mindlin)");
+  v.number("surface_energy", c.surface_energy, {0, 1e4}, "J/m^2",
+           "gamma as LAMMPS defines it (dmt, jkr): pull-off 4 pi gamma R* (dmt), 3 pi gamma R* (jkr)");
+  c.hertz_stiffness = 4.0 / 3 * effective_modulus(m.youngs_modulus, c.poisson_ratio);
+  v.number("hertz_stiffness", c.hertz_stiffness, {0, 1e13, true}, "Pa", "k_N of hertz (default 4/3 E*)");
+  const bool cohesive = c.normal == NormalModel::dmt || c.normal == NormalModel::jkr;
+  v.require(!cohesive || c.surface_energy > 0, "contact.surface_energy",
+            "'contact.surface_energy' must be > 0 for contact.normal " + normal +
+                " (without surface energy use hertz/material)");
 }
 
 void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor) {

@@ -16,8 +16,10 @@ namespace granulab {
 /// what the field can be named (default: g.shape alone), a name other than g.shape is refused naming it.
 void visit_grain(ParameterVisitor& v, GrainGeometry& g, const std::vector<Shape>& shapes = {},
                  const std::string& why = "");
-/// The "material" section.
+/// The "material" section, then the "contact" section (visit_interface_law).
 void visit_material(ParameterVisitor& v, Material& m);
+/// The "contact" section: the interface law's models and their parameters.
+void visit_interface_law(ParameterVisitor& v, Material& m);
 /// The engine knobs of the "run" section: dt / t0 and the neighbour skin / d.
 void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor);
 

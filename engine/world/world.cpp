@@ -23,8 +23,12 @@ World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSetti
     : grain_(grain),
       offset_arrays_(grain.offsets()),
       law_(law),
+      kernel_(pair_kernel(law)),
       settings_(settings),
-      neighbors_(grain.offsets(), grain.diameter(), settings.skin, settings.min_scale) {
+      // A bonded jkr pair holds to delta_c apart: the skin is widened by it, so candidates reach that far.
+      neighbors_(grain.offsets(), grain.diameter(), settings.skin + law.pulloff_distance(grain.radius() / 2),
+                 settings.min_scale) {
+  if (law.keeps_bonds()) neighbors_.keep_bonds();
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
   if (!(settings.min_scale > 0 && settings.min_scale <= 1)) throw std::invalid_argument("min_scale must be in (0, 1]");
 }
@@ -158,7 +162,6 @@ void World::sphere_contact_forces() {
   const auto& keys = neighbors_.keys();
   ShearHistory& history = neighbors_.history();
   const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
-  const double kn = law_.normal_stiffness, kt = law_.tangential_stiffness;
   const long n_pairs = long(pairs.size()), n_bodies = long(bodies_.size());
   rotation_.resize(n_bodies);
   pair_damping_.resize(n_pairs);  // not checkpointed (one evaluation's losses): sized here after a restore too
@@ -185,9 +188,8 @@ void World::sphere_contact_forces() {
       PairKernelConstants c;
       // Spheres of scaled grains touch at the sum of their radii; the stiffness stays the law's.
       const double sa = bodies_.scale[gp.a], sb = bodies_.scale[gp.b];
-      c.diameter = sa == 1 && sb == 1 ? d : radius * (sa + sb), c.radius = radius * sa, c.kn = kn, c.kt = kt;
-      c.cn = damping_coefficient(law_, ma * mb / (ma + mb)), c.ct = c.cn / 2;
-      c.friction = law_.friction, c.dt = dt;
+      c.diameter = sa == 1 && sb == 1 ? d : radius * (sa + sb), c.radius = radius * sa;
+      c.law = pair_law(law_, radius * sa * sb / (sa + sb), ma * mb / (ma + mb), dt);
       // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
       // and the torques follow from the sums of F and (c - x_a) x F.
       c.xa = xa, c.xb = xb;
@@ -197,9 +199,11 @@ void World::sphere_contact_forces() {
       c.dw = wa - wb;
       // Where most candidates did not touch at the last evaluation, distances first (PairKernel).
       const bool sparse = double(pair_contacts_[p]) < kSparseShare * double(gp.count);
-      const PairKernelSums s = pair_contacts(
-          c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first, history.y.data() + gp.first,
-          history.z.data() + gp.first, sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
+      const PairKernelSums s =
+          kernel_(c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
+                  history.y.data() + gp.first, history.z.data() + gp.first,
+                  history.bonds ? history.bond.data() + gp.first : nullptr,
+                  sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
       pair_force_[p] = s.force;
       pair_torque_a_[p] = s.moment;
       pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);
@@ -252,6 +256,10 @@ void World::wall_forces() {
   const Vec3* offsets = grain_.offsets().data();
   const double radius = grain_.radius(), dt = settings_.time_step;
   const long n_keys = long(keys.size());
+  // Platens do not stick: with a cohesive law (dmt, jkr) a sphere meets a wall with the law's Hertz part alone
+  // (docs/model.md, "Interface laws"). A wall is a sphere of infinite radius, R* = r.
+  ContactLaw wall_law = law_;
+  if (law_.cohesive()) wall_law.normal = NormalModel::hertz_material, wall_law.surface_energy = 0;
   wall_force_.resize(n_keys);
   wall_torque_.resize(n_keys);
   wall_touching_.resize(n_keys);
@@ -272,9 +280,10 @@ void World::wall_forces() {
     const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
     const Vec3 arm = c - bodies_.position[b];
     const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
-    ContactLaw law = law_;
+    ContactLaw law = wall_law;
     if (w.friction >= 0) law.friction = w.friction;
-    const ContactForce cf = contact_force(law, w.normal, delta, v_rel, bodies_.mass[b], dt, history[k]);
+    const ContactForce cf =
+        contact_force(law, w.normal, delta, v_rel, radius * bodies_.scale[b], bodies_.mass[b], dt, history[k]);
     wall_force_[k] = cf.force;
     wall_torque_[k] = arm.cross(cf.force);
     wall_energy_[k] = {cf.energy, cf.damping, cf.friction};

@@ -110,6 +110,7 @@ class World {
   GrainTemplate grain_;
   OffsetArrays offset_arrays_;  // grain_'s offsets for the contact loop
   ContactLaw law_;
+  PairKernel kernel_;  // the contact loop compiled for law_'s models
   WorldSettings settings_;
   Bodies bodies_;
   std::vector<Wall> walls_;

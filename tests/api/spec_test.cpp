@@ -13,6 +13,7 @@
 
 #include "api/curve_format.h"
 #include "api/spec.h"
+#include "engine/model/model.h"
 #include "api/summary_json.h"
 #include "engine/experiments/crystal_compression/crystal_compression_experiment.h"
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
@@ -148,6 +149,14 @@ TEST(SpecDefaults, ContractCrystalExampleParses) {
   EXPECT_DOUBLE_EQ(spec.normalized.at("loading").at("confining_pressure").get<double>(), 60e3);
 }
 
+// The interface law by default: the paper's (docs/model.md, "Interface laws"); k_N of hertz 4/3 E* of E = 3 GPa,
+// nu = 0.3.
+const json kDefaultContact = {{"normal", "hooke"},
+                              {"tangential", "linear_history"},
+                              {"poisson_ratio", 0.3},
+                              {"surface_energy", 0.0},
+                              {"hertz_stiffness", 4.0 / 3 * effective_modulus(3.0e9, 0.3)}};
+
 TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   // "Every field has the paper's default": the bare crystal spec normalises to the contract example
   // (label empty, k_t/k_n the exact 2/7 that the example rounds to 0.2857).
@@ -167,6 +176,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["loading"]["axis"] = json::array({-1.0, -1.0, 2.0});
   expected["loading"]["lateral"] = json::array();
   expected["output"]["stress_drop_threshold"] = 0.02;  // an extension: the stick-slip events' depth, over p0
+  expected["contact"] = kDefaultContact;               // an extension: the paper's law, hooke + linear_history
   const Spec spec = parse_spec_text(R"({"experiment": "crystal_compression"})");
   json got = spec.normalized;
   // Engine knobs that are not in the contract example.
@@ -244,6 +254,7 @@ TEST(SpecNormalized, TwoCubeContainsEveryDefault) {
         {"friction", 0.3},
         {"tangential_stiffness_ratio", 2.0 / 7},
         {"damping", 0.05}}},
+      {"contact", kDefaultContact},
       {"loading", {{"prestrain", 0.005}, {"max_slide", 0.8}, {"rate_number", 1e-5}}},
       {"output", {{"curve_points", 400}}},
       {"run", {{"threads", 0}, {"time_step_factor", 0.2}, {"skin_factor", 0.1}}},

@@ -129,6 +129,11 @@ struct StiffnessSummary : ExperimentResult {
 void CrystalStiffnessExperiment::parameters(ParameterVisitor& v) {
   StiffnessParams& p = params;
   visit_crystal_sample(v, p);
+  // The summary's affine prediction sums face springs of constant stiffness (docs/model.md, "Crystal stiffness").
+  v.require(p.material.contact.normal == NormalModel::hooke && p.material.contact.tangential == TangentialModel::linear_history,
+            "contact.normal",
+            "crystal_stiffness compares with the face-spring prediction of hooke and linear_history contacts: leave "
+            "'contact.normal' and 'contact.tangential' at their defaults");
   v.section("loading");
   if (!(p.strain_amplitude > 0)) p.strain_amplitude = default_strain_amplitude(p);
   v.number("strain_amplitude", p.strain_amplitude, {0, 1e-3, true}, "-",

@@ -12,6 +12,9 @@
 namespace granulab {
 namespace {
 
+// Hooke ignores the pair's effective radius.
+constexpr double kRadius = 5e-4;
+
 ContactLaw law(double kn, double ratio, double zeta, double f) { return {kn, ratio * kn, zeta, f}; }
 
 TEST(ContactLaw, HeadOnForceIsStiffnessTimesOverlap) {
@@ -19,7 +22,7 @@ TEST(ContactLaw, HeadOnForceIsStiffnessTimesOverlap) {
   const Vec3 n = Vec3(1, 2, -2).normalized();
   Vec3 xi = Vec3::Zero();
   for (double delta : {1e-9, 1e-6, 1e-4}) {
-    const ContactForce cf = contact_force(l, n, delta, Vec3::Zero(), 1e-3, 1e-7, xi);
+    const ContactForce cf = contact_force(l, n, delta, Vec3::Zero(), kRadius, 1e-3, 1e-7, xi);
     // At rest the only force is the spring: exact up to rounding.
     EXPECT_NEAR((cf.force - 3e5 * delta * n).norm(), 0, 1e-12 * 3e5 * delta);
     EXPECT_FALSE(cf.sliding);
@@ -38,7 +41,7 @@ TEST(ContactLaw, StickThenSlipAtCoulombLimit) {
     Vec3 xi = Vec3::Zero();
     bool slipped = false;
     for (int k = 1; k <= 20000; ++k) {
-      const ContactForce cf = contact_force(l, n, delta, vt, m, dt, xi);
+      const ContactForce cf = contact_force(l, n, delta, vt, kRadius, m, dt, xi);
       EXPECT_NEAR(cf.force.z(), fn, 1e-12 * fn);
       const double stick = kt * v * k * dt + ct * v;  // |F_t| of the elastic branch
       if (stick < cap * (1 - 1e-9)) {
@@ -53,7 +56,7 @@ TEST(ContactLaw, StickThenSlipAtCoulombLimit) {
     }
     EXPECT_TRUE(slipped);
     // Reversing the slide first unloads the spring elastically: the force drops by 2 c_t v + k_t v dt.
-    const ContactForce back = contact_force(l, n, delta, -vt, m, dt, xi);
+    const ContactForce back = contact_force(l, n, delta, -vt, kRadius, m, dt, xi);
     EXPECT_FALSE(back.sliding);
     EXPECT_NEAR(-back.force.x(), cap - 2 * ct * v - kt * v * dt, 1e-9 * cap);
   }
@@ -69,7 +72,7 @@ TEST(ContactLaw, HistoryFollowsRotatingContactPlane) {
   for (int k = 1; k <= steps; ++k) {
     const double phi = M_PI / 2 * k / steps;
     const Vec3 n(std::sin(phi), 0, std::cos(phi));
-    const ContactForce cf = contact_force(l, n, 1e-6, Vec3::Zero(), 1e-3, 1e-7, xi);
+    const ContactForce cf = contact_force(l, n, 1e-6, Vec3::Zero(), kRadius, 1e-3, 1e-7, xi);
     // xi stays in the plane spanned by n and itself, so the projection is an exact rotation.
     EXPECT_NEAR(xi.dot(n), 0, 1e-12 * xi0);
     EXPECT_NEAR(xi.norm(), xi0, 1e-12 * xi0);
@@ -130,7 +133,7 @@ TEST(ContactLaw, SteadySlidingLosesTheCoulombForceTimesTheSlip) {
     const double delta = 1e-6, dt = 1e-7, m = 1e-3;
     Vec3 xi = Vec3::Zero();
     ContactForce cf{};
-    for (int k = 0; k < 20000; ++k) cf = contact_force(l, n, delta, v, m, dt, xi);  // well past the stick phase
+    for (int k = 0; k < 20000; ++k) cf = contact_force(l, n, delta, v, kRadius, m, dt, xi);  // well past the stick phase
     ASSERT_TRUE(cf.sliding) << ratio;
     EXPECT_NEAR(cf.friction, 0.3 * cf.normal * v.norm() * dt, 1e-9 * cf.friction) << ratio;
     EXPECT_DOUBLE_EQ(cf.damping, 0.0);  // v_n = 0, and the tangential dashpot counts only while sticking
