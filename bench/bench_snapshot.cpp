@@ -1,9 +1,11 @@
 // What a crystal snapshot's analyses cost (engine/crystal/crystal_snapshot.h): the reference crystal at full size
 // (864 grains, 841,536 spheres), half of it shifted along a {111} plane so that a band slides, then crystal_snapshot
 // (displacements, local strains and D^2_min, misorientations, interface sliding, slip bands) timed as the best of
-// `repeats` calls, against one time step of the same sample on this machine's threads.
+// `repeats` calls, against one time step of the same sample on this machine's threads. With a contact law named
+// (contact.normal, contact.tangential; cohesive laws at gamma = 0.1 J/m^2), the step is that law's: each law's cost
+// per step on the dense crystal, every candidate touching (docs/model.md, "Interface laws").
 //
-//   build/bench/bench_snapshot [repeats] [edge_spheres]
+//   build/bench/bench_snapshot [repeats] [edge_spheres] [normal] [tangential]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,6 +20,10 @@ int main(int argc, char** argv) {
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   CrystalSampleParams p;  // the paper's crystal: 8 x 18 x 6, N_e = 10
   if (argc > 2) p.grain.edge_spheres = std::atoi(argv[2]);
+  if (argc > 3 && !normal_model_from_string(argv[3], p.material.contact.normal)) return std::fprintf(stderr, "bad law\n"), 2;
+  if (argc > 4 && !tangential_model_from_string(argv[4], p.material.contact.tangential))
+    return std::fprintf(stderr, "bad tangential law\n"), 2;
+  p.material.contact.surface_energy = 0.1;  // read by dmt and jkr only
   p.confining_pressure = 60e3;
   CrystalSample sample(p);
   World& world = sample.world();
@@ -45,6 +51,7 @@ int main(int argc, char** argv) {
   const int steps = 100;
   for (int s = 0; s < steps; ++s) world.step();
   const double step_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count() / steps;
+  std::printf("%s/%s: ", to_string(p.material.contact.normal).c_str(), to_string(p.material.contact.tangential).c_str());
   std::printf("%zu grains, %zu spheres: snapshot %.1f ms (%zu slip bands), one step %.2f ms: a snapshot costs %.2f steps\n",
               b.size(), world.sphere_count(), best, bands, step_ms, best / step_ms);
 }

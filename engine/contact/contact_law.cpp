@@ -59,12 +59,7 @@ PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
   PairLaw c;
   c.kn = law.normal_stiffness, c.kt = law.tangential_stiffness;
   c.mu = law.friction, c.dt = dt, c.r_eff = r_eff;
-  if (law.normal == NormalModel::hooke) {
-    c.cn = damping_coefficient(law, m_eff);
-  } else {
-    // Critical damping of the tangent stiffness dF/d delta = 3/2 k_N a: c_n = 2 zeta sqrt(3/2 k_N m_eff) sqrt(a).
-    c.cn = 2 * law.damping_ratio * std::sqrt(1.5 * law.normal_stiffness * m_eff);
-  }
+  c.cn = pair_damping(law, m_eff);
   c.ct = c.cn / 2;
   c.pulloff = law.pulloff_force(r_eff);
   if (law.normal == NormalModel::jkr) {
@@ -72,6 +67,7 @@ PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
     c.jkr_p = 2 * r_eff * std::sqrt(kPi * g / e);
     c.jkr_w = 4 * std::sqrt(kPi * g * e);
     c.jkr_e = 4 * e / (3 * r_eff);
+    c.jkr_x0 = std::cbrt(c.jkr_p);
     c.break_depth = law.pulloff_distance(r_eff);
     const double ac = std::cbrt(9 * kPi * g * r_eff * r_eff / (4 * e));
     c.break_energy = ac * ac *

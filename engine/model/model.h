@@ -15,7 +15,7 @@ struct InterfaceLaw {
   TangentialModel tangential = TangentialModel::linear_history;
   double poisson_ratio = 0.3;    ///< nu of the grains' material (hertz/material, dmt, jkr, mindlin)
   double surface_energy = 0;     ///< gamma (J/m^2), dmt and jkr
-  double hertz_stiffness = 0;    ///< k_N of `hertz` (Pa); its spec default is 4/3 E* of the material
+  double hertz_stiffness = 0;    ///< k_N of `hertz` (Pa); 0: 4/3 E* of the material (the spec default)
 };
 
 /// E* = E / (2 (1 - nu^2)) of two spheres of one material (Pa).

@@ -166,6 +166,8 @@ void World::sphere_contact_forces() {
   rotation_.resize(n_bodies);
   pair_damping_.resize(n_pairs);  // not checkpointed (one evaluation's losses): sized here after a restore too
   pair_friction_.resize(n_pairs);
+  // The law's constants of two full-size grains; a pair sets its damping (its masses) and, with a scaled grain, all.
+  const PairLaw full_size = pair_law(law_, radius / 2, 1.0, dt);
 
 #pragma omp parallel if (n_pairs >= 8)
   {
@@ -189,7 +191,13 @@ void World::sphere_contact_forces() {
       // Spheres of scaled grains touch at the sum of their radii; the stiffness stays the law's.
       const double sa = bodies_.scale[gp.a], sb = bodies_.scale[gp.b];
       c.diameter = sa == 1 && sb == 1 ? d : radius * (sa + sb), c.radius = radius * sa;
-      c.law = pair_law(law_, radius * sa * sb / (sa + sb), ma * mb / (ma + mb), dt);
+      const double m_eff = ma * mb / (ma + mb);
+      if (sa == 1 && sb == 1) {
+        c.law = full_size;
+        c.law.cn = pair_damping(law_, m_eff), c.law.ct = c.law.cn / 2;
+      } else {
+        c.law = pair_law(law_, radius * sa * sb / (sa + sb), m_eff, dt);
+      }
       // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
       // and the torques follow from the sums of F and (c - x_a) x F.
       c.xa = xa, c.xb = xb;

@@ -127,3 +127,28 @@ TEST(InterfaceLaws, JkrPullsOffAtThreePiGammaRAndHoldsPastContact) {
 
 }  // namespace
 }  // namespace granulab
+
+namespace granulab {
+namespace {
+
+// jkr's contact radius is the root of a quartic found by Newton (contact_law.h): for contact radii from the pull-off
+// point a_c to 100 a_c, the overlap delta(a) = a^2 / R* - 2 sqrt(pi gamma a / E*) fed to the law gives back
+// F(a) = 4 E* a^3 / (3 R*) - 4 sqrt(pi gamma E* a^3) to 1e-9 of 3 pi gamma R* (the force scale).
+TEST(InterfaceLaws, JkrContactRadiusInvertsItsOverlap) {
+  ContactLaw law{4.0 / 3 * 1.65e9, 1e5, 0.0, 0.3};
+  law.normal = NormalModel::jkr, law.effective_modulus = 1.65e9, law.surface_energy = 5;
+  const double r = 2.5e-4, e = law.effective_modulus, g = law.surface_energy;
+  const double ac = std::cbrt(9 * kPi * g * r * r / (4 * e)), scale = 3 * kPi * g * r;
+  const PairLaw c = pair_law(law, r, 1e-3, 1e-7);
+  for (double share = 1.0; share < 100; share *= 1.1) {
+    const double a = share * ac, delta = a * a / r - 2 * std::sqrt(kPi * g * a / e);
+    const double expected = 4 * e * a * a * a / (3 * r) - 4 * std::sqrt(kPi * g * e * a * a * a);
+    Vec3 xi = Vec3::Zero();
+    double bond = 1;  // bonded: holds at negative overlaps too
+    const ContactForce f = contact_force(law, c, Vec3::UnitZ(), delta, Vec3::Zero(), xi, bond);
+    EXPECT_NEAR(f.normal, expected, 1e-9 * std::max(scale, std::abs(expected))) << "a / a_c " << share;
+  }
+}
+
+}  // namespace
+}  // namespace granulab
