@@ -55,6 +55,11 @@ double ContactLaw::pulloff_distance(double r_eff) const {
   return -(ac * ac / r_eff - 2 * std::sqrt(kPi * g * ac / e));
 }
 
+double ContactLaw::pair_stiffness(double r_eff, double force) const {
+  if (normal == NormalModel::hooke) return normal_stiffness;
+  return 1.5 * std::cbrt(normal_stiffness * normal_stiffness * r_eff * std::max(force, 0.0));
+}
+
 PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
   PairLaw c;
   c.kn = law.normal_stiffness, c.kt = law.tangential_stiffness;

@@ -50,6 +50,9 @@ struct ContactLaw {
   double pulloff_force(double r_eff) const;
   /// How far past delta = 0 a bonded jkr pair holds (m, positive): delta_c at the contact radius of largest tension.
   double pulloff_distance(double r_eff) const;
+  /// The normal stiffness dF/d delta (N/m) of a pair of effective radius r_eff (m) pushing with `force` (N): k_n for
+  /// hooke; for the others that of their Hertz part, 3/2 k_N^(2/3) R*^(1/3) F^(1/3).
+  double pair_stiffness(double r_eff, double force) const;
 };
 
 /// The law's constants for one pair of bodies (effective radius and mass), hoisted out of loops over its contacts.

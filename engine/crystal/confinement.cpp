@@ -43,7 +43,8 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
   // bound of the wall-sample stiffness (springs in series), so the force error decays no faster than
   // with time constant tau, which is kept well above the sample's response time (~ L/c ~ 10 t0).
   const double servo_time = 50 * sample.contact_time();
-  const double kn = world.law().normal_stiffness;
+  const ContactLaw& law = world.law();
+  const double kn = law.normal_stiffness;
   ConfinementState own;
   ConfinementState& s = state ? *state : own;
   if (!s.begun) s = {true, world.steps(), 0};
@@ -55,7 +56,14 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     for (std::size_t w : {top, bottom}) {
       Wall& wall = world.walls()[w];
       const double error = (p0 - sample.axial_stress(w)) * sample.cross_section();  // N; > 0: push in
-      const double stiffness = kn * double(std::max<std::size_t>(1, wall.contacts));
+      const double contacts = double(std::max<std::size_t>(1, wall.contacts));
+      // A Hertz contact stiffens with its load: at the larger of the present and the target force per contact.
+      const double stiffness =
+          law.normal == NormalModel::hooke
+              ? kn * contacts
+              : contacts * law.pair_stiffness(sample.grain().radius(),
+                                              std::max(std::abs(wall.force.dot(wall.normal)), p0 * sample.cross_section()) /
+                                                  contacts);
       // At most a tenth of the skin per step, so a wall far from contact cannot jump into the spheres.
       const double max_speed = 0.1 * world.settings().skin / world.settings().time_step;
       wall.velocity = wall.normal * std::clamp(error / (stiffness * servo_time), -max_speed, max_speed);

@@ -86,16 +86,40 @@ double hydrostatic_prestrain(double confining_pressure, double youngs_modulus) {
 
 double hydrostatic_prestrain(const CrystalSampleParams& p) {
   const double p0 = p.confining_pressure, e = p.material.youngs_modulus;
-  if (p.lattice == LatticeType::fcc) return hydrostatic_prestrain(p0, e);  // the paper's, bit for bit
-  // Love-Weber: a uniform strain eps0 overlaps face f by eps0 l_f, which carries k_n N_f eps0 l_f along l_f;
-  // the mean stress is sum_f k_n N_f eps0 l_f^2 / (6 V).
+  const bool hooke = p.material.contact.normal == NormalModel::hooke;
+  if (p.lattice == LatticeType::fcc && hooke) return hydrostatic_prestrain(p0, e);  // the paper's, bit for bit
+  // Love-Weber: a uniform strain eps0 overlaps face f by eps0 l_f, which carries N_f F(eps0 l_f) along l_f;
+  // the mean stress is sum_f N_f F(eps0 l_f) l_f / (6 V). Hooke's F = k_n delta gives eps0 in closed form.
   GrainGeometry g = p.grain;
   g.shape = grain_shape(p.lattice);
   const GrainTemplate grain(g);
+  const std::vector<FaceSpring> faces = face_springs(grain);
   const double k_n = normal_stiffness(grain, e);
   double sum = 0;
-  for (const FaceSpring& f : face_springs(grain)) sum += k_n * double(f.pairs) * f.branch * f.branch;
-  return 6 * grain.volume() * p0 / sum;
+  for (const FaceSpring& f : faces) sum += k_n * double(f.pairs) * f.branch * f.branch;
+  const double linear = 6 * grain.volume() * p0 / sum;
+  if (hooke) return linear;
+  // Any other law: the face overlaps whose forces (at rest, bonded) carry p0, by bisection on eps0, which every law's
+  // F(delta) raises once it pushes.
+  const ContactLaw law = contact_law(grain, p.material);
+  const PairLaw c = pair_law(law, grain.radius() / 2, 1.0, 1.0);
+  const auto stress = [&](double eps) {
+    double total = 0;
+    for (const FaceSpring& f : faces) {
+      Vec3 xi = Vec3::Zero();
+      double bond = 1;
+      total += double(f.pairs) * contact_force(law, c, Vec3::UnitZ(), eps * f.branch, Vec3::Zero(), xi, bond).normal *
+               f.branch;
+    }
+    return total / (6 * grain.volume());
+  };
+  double lo = 0, hi = linear;
+  for (int k = 0; k < 200 && stress(hi) < p0; ++k) lo = hi, hi *= 2;
+  for (int k = 0; k < 200 && hi - lo > 1e-15 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (stress(mid) < p0 ? lo : hi) = mid;
+  }
+  return hi;
 }
 
 double crystal_wave_speed(const CrystalSampleParams& p) {

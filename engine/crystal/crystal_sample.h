@@ -56,10 +56,12 @@ struct CrystalSampleParams {
 /// eps0 = sqrt2 p0 / E (-): the hydrostatic pre-strain at which the face overlaps of the FCC packing
 /// carry p0 (the Love-Weber stress of the packing is E eps0 / sqrt2).
 double hydrostatic_prestrain(double confining_pressure, double youngs_modulus);
-/// The same for the sample's lattice (-): eps0 = 6 V p0 / (k_n sum_f N_f l_f^2) over the grain's faces f (N_f
-/// spheres under it, l_f = 2 h_f to the neighbour across it), the pre-strain whose face overlaps carry a mean
-/// stress p0: sqrt2 p0 / E for FCC (the function above, bit for bit), p0 / E for SC, and HCP's the same as FCC's up
-/// to round-off (its trapezoids hold N_e^2 spheres as its rhombi do, all 12 faces at D/2).
+/// The same for the sample's lattice and interface law (-), the pre-strain whose face overlaps carry a mean stress
+/// p0: with hooke eps0 = 6 V p0 / (k_n sum_f N_f l_f^2) over the grain's faces f (N_f spheres under it, l_f = 2 h_f
+/// to the neighbour across it), sqrt2 p0 / E for FCC (the function above, bit for bit), p0 / E for SC, and HCP's the
+/// same as FCC's up to round-off (its trapezoids hold N_e^2 spheres as its rhombi do, all 12 faces at D/2); with
+/// any other law, sum_f N_f F(eps0 l_f) l_f = 6 V p0 solved for eps0 (a Hertz crystal is softer at these loads: its
+/// eps0 is larger, and confining it from Hooke's would take the platens far longer).
 double hydrostatic_prestrain(const CrystalSampleParams& p);
 
 /// The sample's size, the confinement's step cap (knock-outs and an early equilibrium only lower them) and

@@ -13,7 +13,7 @@ void write_run_stats(SummaryWriter& w, const RunStats& r) {
   w.number("sphere_steps_per_second", r.wall_seconds > 0 ? sphere_steps / r.wall_seconds : 0.0, "1/s");
   w.number("seconds_per_step", r.steps > 0 ? r.wall_seconds / double(r.steps) : 0.0, "s");
   w.number("sphere_diameter", r.sphere_diameter, "m");
-  w.number("normal_stiffness", r.normal_stiffness, "N/m");
+  w.number("normal_stiffness", r.normal_stiffness, r.normal_stiffness_unit);
   w.count("spheres_per_face", std::uint64_t(r.spheres_per_face));
   w.count("neighbor_rebuilds", r.rebuilds);
   w.count("neighbor_pair_searches", r.pair_searches);

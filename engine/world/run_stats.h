@@ -38,7 +38,8 @@ struct RunStats {
   double mean_candidates = 0;       ///< sphere-pair candidates per force evaluation, averaged over the steps (-)
   double time_step = 0;             ///< dt (s)
   double sphere_diameter = 0;       ///< d (m)
-  double normal_stiffness = 0;      ///< k_n of one sphere pair (N/m)
+  double normal_stiffness = 0;      ///< the law's normal stiffness: k_n of one sphere pair (N/m) for hooke, k_N (Pa) else
+  const char* normal_stiffness_unit = "N/m";
   int spheres_per_face = 0;         ///< N_f = N_e^2 (-)
   int threads = 1;                  ///< OpenMP threads of the run (-)
   double wall_seconds = 0;          ///< wall-clock time of the run (s)

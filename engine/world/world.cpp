@@ -44,6 +44,7 @@ RunStats World::run_stats(double wall_seconds) const {
   r.time_step = settings_.time_step;
   r.sphere_diameter = grain_.diameter();
   r.normal_stiffness = law_.normal_stiffness;
+  r.normal_stiffness_unit = law_.normal == NormalModel::hooke ? "N/m" : "Pa";
   r.spheres_per_face = grain_.spheres_per_face();
   r.threads = omp_get_max_threads();
   r.wall_seconds = wall_seconds;

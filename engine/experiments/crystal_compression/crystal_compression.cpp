@@ -7,20 +7,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/crystal/end_layers.h"
 #include "engine/framework/energy_report.h"
 
 
 namespace granulab {
-
-namespace {
-
-double mean_coordinate(const std::vector<BodyId>& bodies, const std::vector<Vec3>& x, int axis) {
-  double s = 0;
-  for (BodyId b : bodies) s += x[b][axis];
-  return bodies.empty() ? 0 : s / bodies.size();
-}
-
-}  // namespace
 
 const std::vector<CurveColumn>& CrystalRow::columns() {
   static const std::vector<CurveColumn> c = [] {

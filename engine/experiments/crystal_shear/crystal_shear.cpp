@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/crystal/end_layers.h"
 #include "engine/framework/energy_report.h"
 
 
@@ -93,12 +94,6 @@ std::string percent(double strain) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g %%", 100 * strain);
   return text;
-}
-
-double mean_coordinate(const std::vector<BodyId>& bodies, const std::vector<Vec3>& x, int axis) {
-  double s = 0;
-  for (BodyId b : bodies) s += x[b][axis];
-  return bodies.empty() ? 0 : s / double(bodies.size());
 }
 
 }  // namespace
@@ -250,48 +245,12 @@ void CrystalShear::confine_and_begin(Run& run) {
   run.r.confinement = confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
   World& world = sample_.world();
   Bodies& bodies = world.bodies();
-  // The layers: the sites on the lowest and the highest of their distinct heights along z (exact, as built).
-  const std::vector<LatticeSite>& sites = sample_.lattice().sites;
-  std::vector<double> heights;
-  for (const LatticeSite& s : sites) heights.push_back(s.position.z());
-  std::sort(heights.begin(), heights.end());
-  const double same = 1e-9 * params_.grain.size;
-  heights.erase(std::unique(heights.begin(), heights.end(), [&](double a, double b) { return b - a < same; }),
-                heights.end());
-  if (heights.size() < 3)  // the spec refuses it (slab_layers)
-    throw std::invalid_argument("the slab has fewer than three layers along the plane's normal");
-  double spacing = heights.back() - heights.front();
-  for (std::size_t k = 1; k < heights.size(); ++k) spacing = std::min(spacing, heights[k] - heights[k - 1]);
-  for (std::size_t k = 0; k < sites.size(); ++k) {
-    const double z = sites[k].position.z();
-    const int layer = z < heights.front() + same ? 0 : z > heights.back() - same ? 1 : -1;
-    if (layer < 0) continue;
-    layer_[layer].push_back(BodyId(k));
-    bodies.motion[k] = Motion::prescribed;
-    bodies.velocity[k].setZero();
-    bodies.angular_velocity[k].setZero();
-    bodies.angular_momentum[k].setZero();
-  }
+  EndLayers grips = grip_end_layers(sample_);
+  layer_[0] = std::move(grips.layer[0]), layer_[1] = std::move(grips.layer[1]);
   for (BodyId b : layer_[1]) top_mass_ += bodies.mass[b];
-  // The platens step back two grain sizes: the end layers carry the load from now on.
-  std::vector<Wall>& walls = world.walls();
-  walls[sample_.top_wall()].point += 2 * params_.grain.size * Vec3::UnitZ();
-  walls[sample_.bottom_wall()].point -= 2 * params_.grain.size * Vec3::UnitZ();
-  for (Wall& w : walls) w.velocity.setZero();
-  world.compute_forces();
   ref_.take(sample_);
   world.start_energy_balance();
-  // Each layer's height: the grains' centres clustered along z within a quarter of the lattice's plane spacing.
-  std::vector<double> z;
-  for (const Vec3& x : ref_.position) z.push_back(x.z());
-  std::sort(z.begin(), z.end());
-  for (std::size_t k = 0, first = 0; k < z.size(); ++k)
-    if (k + 1 == z.size() || z[k + 1] - z[k] > spacing / 4) {
-      double sum = 0;
-      for (std::size_t j = first; j <= k; ++j) sum += z[j];
-      layer_heights_.push_back(sum / double(k + 1 - first));
-      first = k + 1;
-    }
+  layer_heights_ = layer_heights(ref_.position, grips.spacing);
   ref_top_ = Vec3(mean_coordinate(layer_[1], bodies.position, 0), mean_coordinate(layer_[1], bodies.position, 1),
                   mean_coordinate(layer_[1], bodies.position, 2));
   ref_gap_ = ref_top_.z() - mean_coordinate(layer_[0], bodies.position, 2);
