@@ -1,6 +1,6 @@
 // A crystal held by its own end grains: after confinement, the sites on the lowest and the highest of the lattice's
 // distinct heights along z become rigid grips (prescribed motion, at rest), and the platens step back two grain sizes,
-// so that the grips carry the axial load from then on. crystal_shear drives the top grip along its plane.
+// so that the grips carry the axial load from then on (the shear experiment drives the top grip along its plane).
 #pragma once
 
 #include <vector>
