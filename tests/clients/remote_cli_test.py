@@ -32,8 +32,9 @@ DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
 TINY = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 2}, "loading": {"rate_number": 0.1},
         "output": {"curve_points": 4}, "label": "tiny"}
-# About 6 s on one thread (2,000,000 steps): long enough for a log to show its progress.
-SLOWER = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 2e-6},
+# 4,000,000 steps, about 8 s on one of this machine's quiet cores (2e-6 s a step): long enough for a log to show its
+# progress (half of it, 4 s, printed two running lines).
+SLOWER = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-6},
           "output": {"curve_points": 20}, "label": "slower"}
 
 

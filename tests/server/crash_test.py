@@ -25,6 +25,9 @@ DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 # About 1.5 s of work each at N_e = 4: long enough to be caught running by the kill, and checkpointed.
 SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-5},
         "output": {"curve_points": 20}}
+# 1,333,334 steps, about 2.7 s on this machine's quiet cores: a job must outlive the 1 s checkpoint interval for the
+# kill loop to resume one (SPEC's 0.8 s jobs finished between checkpoints on a quiet machine).
+LONGER = dict(SPEC, loading={"rate_number": 3e-6})
 
 
 def free_port():
@@ -109,7 +112,7 @@ class CrashTest(unittest.TestCase):
             # Checkpoints every second, so kills also land during checkpoint writes and resumed runs.
             self.proc = self.start("--checkpoint-seconds", "1")
             if cycle < 12:
-                ids.append(self.client.submit(SPEC))
+                ids.append(self.client.submit(LONGER))
             time.sleep(rng.uniform(0.0, 1.5))
             if any(j["status"] == "running" for j in self.client.list(limit=100)):
                 kills_while_running += 1
@@ -132,7 +135,7 @@ class CrashTest(unittest.TestCase):
                                   (job_id,)).fetchone()
                 self.assertEqual(n, 1, f"job {job_id}")
         self.proc = self.start()
-        direct = self.direct_curve(SPEC)
+        direct = self.direct_curve(LONGER)
         for job_id in ids:
             self.assertEqual(self.client.curve_csv(job_id), direct, f"job {job_id}")
         print(f"crash loop: 30 kills ({kills_while_running} with a job running, {resumed} resumptions from a "
