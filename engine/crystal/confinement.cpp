@@ -45,6 +45,13 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
   const double servo_time = 50 * sample.contact_time();
   const ContactLaw& law = world.law();
   const double kn = law.normal_stiffness;
+  // Quietness is kinetic energy against the contacts' stored energy. Cohesion's potential (negative: -F_pulloff delta,
+  // JKR's curve) can bring that near zero or below, so a cohesive crystal compares with no less than the energy p0
+  // alone would store in the grains' material, p0^2 / (2 E) over the sample's volume (a lower bound: the crystal is
+  // softer than its material).
+  const double cohesive_floor =
+      law.cohesive() ? p0 * p0 / (2 * p.material.youngs_modulus) * sample.cross_section() * crystal_length_estimate(p)
+                     : 0.0;
   ConfinementState own;
   ConfinementState& s = state ? *state : own;
   if (!s.begun) s = {true, world.steps(), 0};
@@ -72,7 +79,9 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
     if (sample.step(start)) {
       {
         StageTimer t(control_time);
-        const double ke = world.kinetic_energy(), ee = world.contact_stats().elastic_energy;
+        const double ke = world.kinetic_energy(),
+                     ee = law.cohesive() ? std::max(world.contact_stats().elastic_energy, cohesive_floor)
+                                         : world.contact_stats().elastic_energy;
         const bool walls_ok = std::abs(sample.axial_stress(top) - p0) <= p.equilibrium_tolerance * p0 &&
                               std::abs(sample.axial_stress(bottom) - p0) <= p.equilibrium_tolerance * p0;
         const bool quiet = ke <= p.kinetic_tolerance * ee;
