@@ -46,13 +46,19 @@ double ContactLaw::pulloff_force(double r_eff) const {
   return 0;
 }
 
-// jkr's force is most tensile, -3 pi gamma R*, where dF/da = 0: a_c^3 = 9 pi gamma R*^2 / (4 E*). LAMMPS ends the
-// bond there (its pull-off distance), before the displacement-controlled instability at a^3 = pi gamma R*^2 / (4 E*).
+namespace {
+// jkr's force is most tensile, -3 pi gamma R*, where dF/da = 0: at the contact radius a_c, a_c^3 = 9 pi gamma R*^2 /
+// (4 E*). LAMMPS ends the bond there (its pull-off distance), before the displacement-controlled instability at
+// a^3 = pi gamma R*^2 / (4 E*).
+double pulloff_radius(const ContactLaw& law, double r_eff) {
+  return std::cbrt(9 * kPi * law.surface_energy * r_eff * r_eff / (4 * law.effective_modulus));
+}
+}  // namespace
+
 double ContactLaw::pulloff_distance(double r_eff) const {
   if (normal != NormalModel::jkr || !(surface_energy > 0)) return 0;
-  const double e = effective_modulus, g = surface_energy;
-  const double ac = std::cbrt(9 * kPi * g * r_eff * r_eff / (4 * e));
-  return -(ac * ac / r_eff - 2 * std::sqrt(kPi * g * ac / e));
+  const double ac = pulloff_radius(*this, r_eff);
+  return -(ac * ac / r_eff - 2 * std::sqrt(kPi * surface_energy * ac / effective_modulus));
 }
 
 double ContactLaw::pair_stiffness(double r_eff, double force) const {
@@ -74,7 +80,7 @@ PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
     c.jkr_e = 4 * e / (3 * r_eff);
     c.jkr_x0 = std::cbrt(c.jkr_p);
     c.break_depth = law.pulloff_distance(r_eff);
-    const double ac = std::cbrt(9 * kPi * g * r_eff * r_eff / (4 * e));
+    const double ac = pulloff_radius(law, r_eff);
     c.break_energy = ac * ac *
                      (0.4 * c.jkr_e * ac * ac * ac / r_eff - (2.0 / 3) * c.jkr_w * ac * std::sqrt(ac) / r_eff +
                       c.jkr_w * c.jkr_w / (6 * c.jkr_e * r_eff));

@@ -269,6 +269,8 @@ void World::wall_forces() {
   // (docs/model.md, "Interface laws"). A wall is a sphere of infinite radius, R* = r.
   ContactLaw wall_law = law_;
   if (law_.cohesive()) wall_law.normal = NormalModel::hertz_material, wall_law.surface_energy = 0;
+  // Its constants once; a candidate sets its friction (the wall's), damping (its grain's mass) and radius.
+  const PairLaw wall_constants = pair_law(wall_law, radius, 1.0, dt);
   wall_force_.resize(n_keys);
   wall_torque_.resize(n_keys);
   wall_touching_.resize(n_keys);
@@ -289,10 +291,12 @@ void World::wall_forces() {
     const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
     const Vec3 arm = c - bodies_.position[b];
     const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
-    ContactLaw law = wall_law;
-    if (w.friction >= 0) law.friction = w.friction;
-    const ContactForce cf =
-        contact_force(law, w.normal, delta, v_rel, radius * bodies_.scale[b], bodies_.mass[b], dt, history[k]);
+    PairLaw pair = wall_constants;
+    if (w.friction >= 0) pair.mu = w.friction;
+    pair.cn = pair_damping(wall_law, bodies_.mass[b]), pair.ct = pair.cn / 2;
+    pair.r_eff = radius * bodies_.scale[b];
+    double no_bond = 0;  // walls do not bond
+    const ContactForce cf = contact_force(wall_law, pair, w.normal, delta, v_rel, history[k], no_bond);
     wall_force_[k] = cf.force;
     wall_torque_[k] = arm.cross(cf.force);
     wall_energy_[k] = {cf.energy, cf.damping, cf.friction};
