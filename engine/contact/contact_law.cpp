@@ -28,6 +28,18 @@ std::string to_string(TangentialModel m) {
   return "?";
 }
 
+std::vector<std::string> normal_model_names() {
+  std::vector<std::string> out;
+  for (const auto& [model, name] : kNormalNames) out.push_back(name);
+  return out;
+}
+
+std::vector<std::string> tangential_model_names() {
+  std::vector<std::string> out;
+  for (const auto& [model, name] : kTangentialNames) out.push_back(name);
+  return out;
+}
+
 bool normal_model_from_string(const std::string& name, NormalModel& out) {
   for (const auto& [model, n] : kNormalNames)
     if (name == n) return out = model, true;

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/core/types.h"
 
@@ -29,6 +30,11 @@ enum class TangentialModel : std::uint8_t { linear_history, mindlin };
 
 std::string to_string(NormalModel m);
 std::string to_string(TangentialModel m);
+/// Every model's LAMMPS name, in declaration order.
+std::vector<std::string> normal_model_names();
+std::vector<std::string> tangential_model_names();
+/// Whether the law attracts (dmt, jkr).
+constexpr bool is_cohesive(NormalModel m) { return m == NormalModel::dmt || m == NormalModel::jkr; }
 /// LAMMPS' name ("hooke", "hertz/material", ...) to the model; false when unknown.
 bool normal_model_from_string(const std::string& name, NormalModel& out);
 bool tangential_model_from_string(const std::string& name, TangentialModel& out);
@@ -43,7 +49,7 @@ struct ContactLaw {
   NormalModel normal = NormalModel::hooke;
   TangentialModel tangential = TangentialModel::linear_history;
 
-  bool cohesive() const { return normal == NormalModel::dmt || normal == NormalModel::jkr; }
+  bool cohesive() const { return is_cohesive(normal); }
   /// Whether a pair's contact outlives delta = 0 (jkr): candidates then carry a bond flag.
   bool keeps_bonds() const { return normal == NormalModel::jkr; }
   /// The force of one pair of effective radius r_eff (m) at pull-off (N): 0 without cohesion.
@@ -109,7 +115,7 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
                                                                  double& hx_io, double& hy_io, double& hz_io,
                                                                  double& bond_io) {
   constexpr bool hooke = N == NormalModel::hooke, jkr = N == NormalModel::jkr;
-  constexpr bool cohesive = N == NormalModel::dmt || jkr, mindlin = T == TangentialModel::mindlin;
+  constexpr bool cohesive = is_cohesive(N), mindlin = T == TangentialModel::mindlin;
   const double kn = c.kn, dt = c.dt;
   // A jkr bond holds past delta = 0 down to -delta_c; every other law touches while the centres are within reach.
   // (Bitwise, not short-circuit, operators: branches would stop the kernel's loop from vectorising.)

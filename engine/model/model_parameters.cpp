@@ -36,12 +36,12 @@ void visit_interface_law(ParameterVisitor& v, Material& m) {
   InterfaceLaw& c = m.contact;
   v.section("contact");
   std::string normal = to_string(c.normal), tangential = to_string(c.tangential);
-  v.choice("normal", normal, {"hooke", "hertz", "hertz/material", "dmt", "jkr"},
+  v.choice("normal", normal, normal_model_names(),
            "normal law between spheres, as LAMMPS pair_style granular names it: hooke (the paper's, k_n from the face), "
            "hertz (k_N sqrt(R* delta) delta), hertz/material (k_N = 4/3 E*, E* = E / (2 (1 - nu^2))), dmt (hertz/material "
            "- 4 pi gamma R*), jkr (adhesive, held to the pull-off distance); R* = d / 4 between spheres");
   normal_model_from_string(normal, c.normal);
-  v.choice("tangential", tangential, {"linear_history", "mindlin"},
+  v.choice("tangential", tangential, tangential_model_names(),
            "tangential spring: linear_history (k_t = material.tangential_stiffness_ratio x hooke's k_n), mindlin "
            "(k_t a, k_t = 8 G* = 2 E / ((2 - nu) (1 + nu)), a the contact radius)");
   tangential_model_from_string(tangential, c.tangential);
@@ -50,8 +50,7 @@ void visit_interface_law(ParameterVisitor& v, Material& m) {
            "gamma as LAMMPS defines it (dmt, jkr): pull-off 4 pi gamma R* (dmt), 3 pi gamma R* (jkr)");
   c.hertz_stiffness = 4.0 / 3 * effective_modulus(m.youngs_modulus, c.poisson_ratio);
   v.number("hertz_stiffness", c.hertz_stiffness, {0, 1e13, true}, "Pa", "k_N of hertz (default 4/3 E*)");
-  const bool cohesive = c.normal == NormalModel::dmt || c.normal == NormalModel::jkr;
-  v.require(!cohesive || c.surface_energy > 0, "contact.surface_energy",
+  v.require(!is_cohesive(c.normal) || c.surface_energy > 0, "contact.surface_energy",
             "'contact.surface_energy' must be > 0 for contact.normal " + normal +
                 " (without surface energy use hertz/material)");
 }
