@@ -53,10 +53,19 @@ LONG_SPEC = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 10},
              "loading": {"rate_number": 3e-7, "max_slide": 0.4}, "output": {"curve_points": 40}}
 
 
+_HANDED_OUT = set()
+
+
 def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+    """A port free now and not handed out before in this run: two quick bind(0)s may return the same port, and then
+    slurmctld and slurmd both try it ("Error binding slurm stream socket: Address already in use", seen once)."""
+    while True:
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        if port not in _HANDED_OUT:
+            _HANDED_OUT.add(port)
+            return port
 
 
 def pid_alive(pid):
