@@ -252,6 +252,14 @@ void CrystalSample::fix_confining_forces(double end_load) {
   world_.compute_forces();
 }
 
+void CrystalSample::release_confinement() {
+  fixed_ = FixedForces{};
+  fixed_.on = true;
+  std::fill(world_.external_force().begin(), world_.external_force().end(), Vec3::Zero());
+  std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
+  world_.compute_forces();
+}
+
 void CrystalSample::fix_face_forces() {
   const double cell = (1 - hydrostatic_prestrain(params_)) * params_.grain.size;
   const std::vector<ExposedArea> exposed = exposed_face_areas(lattice_, grain_.solid(), cell);

@@ -160,6 +160,9 @@ class CrystalSample {
   /// end. The summary's areas are the positive parts of the vector areas per face.
   void fix_face_forces();
   const FixedForces& fixed_forces() const { return fixed_; }
+  /// Takes the bag away: no confining force from now on (fixed forces of zero), as a crystal held by its own grips
+  /// and cohesion is loaded bare. Forces are recomputed.
+  void release_confinement();
   /// Radius of sphere i (body-major index) (m): the template's times its grain's scale.
   double sphere_radius(std::size_t i) const {
     return grain_.radius() * world_.bodies().scale[i / grain_.sphere_count()];

@@ -5,25 +5,35 @@
 
 namespace granulab {
 
-EndLayers grip_end_layers(CrystalSample& sample) {
-  EndLayers out;
-  World& world = sample.world();
-  Bodies& bodies = world.bodies();
-  // The layers: the sites on the lowest and the highest of their distinct heights along z (exact, as built).
-  const std::vector<LatticeSite>& sites = sample.lattice().sites;
+std::vector<double> site_heights(const std::vector<LatticeSite>& sites, double size) {
   std::vector<double> heights;
   for (const LatticeSite& s : sites) heights.push_back(s.position.z());
   std::sort(heights.begin(), heights.end());
-  const double same = 1e-9 * sample.params().grain.size;
+  const double same = 1e-9 * size;
   heights.erase(std::unique(heights.begin(), heights.end(), [&](double a, double b) { return b - a < same; }),
                 heights.end());
-  if (heights.size() < 3)  // the specs refuse it
-    throw std::invalid_argument("the crystal has fewer than three layers along z: two would be grips");
+  return heights;
+}
+
+EndLayers grip_end_layers(CrystalSample& sample, double depth) {
+  EndLayers out;
+  World& world = sample.world();
+  Bodies& bodies = world.bodies();
+  // The grips: the sites within depth of the lowest and the highest of their distinct heights (exact, as built).
+  const std::vector<LatticeSite>& sites = sample.lattice().sites;
+  const std::vector<double> heights = site_heights(sites, sample.params().grain.size);
+  const double same = 1e-9 * sample.params().grain.size, reach = depth + same;
+  for (double h : heights) {
+    out.layers[0] += h < heights.front() + reach;
+    out.layers[1] += h > heights.back() - reach;
+  }
+  if (heights.size() < 3 || out.layers[0] + out.layers[1] >= int(heights.size()))  // the specs refuse it
+    throw std::invalid_argument("the crystal has no layer along z between its two grips");
   out.spacing = heights.back() - heights.front();
   for (std::size_t k = 1; k < heights.size(); ++k) out.spacing = std::min(out.spacing, heights[k] - heights[k - 1]);
   for (std::size_t k = 0; k < sites.size(); ++k) {
     const double z = sites[k].position.z();
-    const int layer = z < heights.front() + same ? 0 : z > heights.back() - same ? 1 : -1;
+    const int layer = z < heights.front() + reach ? 0 : z > heights.back() - reach ? 1 : -1;
     if (layer < 0) continue;
     out.layer[layer].push_back(BodyId(k));
     bodies.motion[k] = Motion::prescribed;

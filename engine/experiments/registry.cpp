@@ -6,6 +6,7 @@
 #include "engine/experiments/crystal_confinement/crystal_confinement.h"
 #include "engine/experiments/crystal_shear/crystal_shear_experiment.h"
 #include "engine/experiments/crystal_stiffness/crystal_stiffness_experiment.h"
+#include "engine/experiments/crystal_tension/crystal_tension_experiment.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding_experiment.h"
 
 namespace granulab {
@@ -30,6 +31,10 @@ const std::vector<ExperimentType>& experiment_types() {
        "the elastic tensor of any confined crystal: small strains imposed on its boundary grains, the interior "
        "relaxed and not, the stress from the contact forces (beyond the paper: its \"too stiff\" in numbers)",
        make_crystal_stiffness},
+      {"crystal_tension",
+       "any crystal pulled apart along its axis between grips of its own end grains, in the bag or bare (beyond the "
+       "paper: the cohesive crystals of contact.normal dmt and jkr carry tension, the paper's do not)",
+       make_crystal_tension},
   };
   return types;
 }

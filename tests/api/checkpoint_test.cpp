@@ -35,6 +35,11 @@ const std::map<std::string, std::string> kSpecs = {
     {"crystal_stiffness", R"({"experiment": "crystal_stiffness", "grain": {"edge_spheres": 3},
       "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3}, "loading": {"confining_pressure": 30e3,
       "ramp_transits": 1, "relax_checks": 1}})"},
+    // A cohesive crystal out of its bag, pulled past its peak (the peak tracked every step, the grips, the layers).
+    {"crystal_tension", R"({"experiment": "crystal_tension", "grain": {"edge_spheres": 3},
+      "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 2}, "contact": {"normal": "dmt",
+      "surface_energy": 1}, "loading": {"confining_pressure": 100, "confinement": "none", "max_strain": 3e-4},
+      "output": {"curve_points": 12, "snapshot_strains": [0, 1e-4]}})"},
 };
 
 struct Died {};
@@ -74,8 +79,9 @@ void expect_resumes_bit_identical(const std::string& text) {
   run(spec, whole);
   const int safe_points = whole.taken_;
   ASSERT_GE(safe_points, 4);
-  if (whole.summary_.contains("compression_steps"))  // the last interruption falls in the compression
+  if (whole.summary_.contains("compression_steps")) {  // the last interruption falls in the compression
     ASSERT_GE(whole.summary_.at("compression_steps").get<double>(), 300);
+  }
   // Die after the first, a middle and the last checkpoint, each time a few safe points later; resume
   // (twice in a row for the middle one: a resumed run is itself interrupted and resumed).
   for (const int die_after : {1, safe_points / 2, std::max(2, safe_points - 150), safe_points - 2}) {
@@ -103,8 +109,12 @@ void expect_resumes_bit_identical(const std::string& text) {
     EXPECT_EQ(resumed.curve_csv_, whole.curve_csv_);
     EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
     EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
-    for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces", "peak", "snapshots"})
-      if (whole.summary_.contains(key)) EXPECT_EQ(resumed.summary_.at(key), whole.summary_.at(key)) << key;
+    for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces", "peak", "snapshots",
+                            "tensile_strength", "failure_strain", "failure_plane", "stopped"}) {
+      if (whole.summary_.contains(key)) {
+        EXPECT_EQ(resumed.summary_.at(key), whole.summary_.at(key)) << key;
+      }
+    }
   }
 }
 

@@ -118,7 +118,10 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
       {"crystal_shear", R"({"grain": {"edge_spheres": 3}, "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 2},
         "loading": {"confining_pressure": 30e3, "max_shear_strain": 1e-4}, "output": {"curve_points": 4, "snapshot_strains": [0]}})"},
       {"crystal_stiffness", R"({"grain": {"edge_spheres": 3}, "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3},
-        "loading": {"confining_pressure": 30e3, "ramp_transits": 1, "relax_checks": 1}})"}};
+        "loading": {"confining_pressure": 30e3, "ramp_transits": 1, "relax_checks": 1}})"},
+      {"crystal_tension", R"({"grain": {"edge_spheres": 3}, "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 2},
+        "contact": {"normal": "dmt", "surface_energy": 1}, "loading": {"confining_pressure": 100, "max_strain": 1e-4},
+        "output": {"curve_points": 4, "snapshot_strains": [0]}})"}};
   for (const ExperimentType& t : experiment_types()) {
     SCOPED_TRACE(t.name);
     ASSERT_TRUE(short_specs.count(t.name)) << "add a short spec for the new experiment here";
@@ -130,8 +133,9 @@ TEST(Registry, EveryExperimentRunsThroughTheOneRunner) {
     const Workload w = parse_spec(doc).experiment->workload();
     EXPECT_EQ(out.summary.at("spheres").get<double>(), w.spheres);
     EXPECT_LE(out.summary.at("steps").get<double>(), w.steps);
-    if (out.summary.contains("compression_steps"))  // the part not bounded by the confinement's cap
+    if (out.summary.contains("compression_steps")) {  // the part not bounded by the confinement's cap
       EXPECT_LE(out.summary.at("compression_steps").get<double>(), w.steps - 200000);
+    }
     std::printf("%s: %g spheres, %g steps run, %g estimated\n", t.name, w.spheres,
                 out.summary.at("steps").get<double>(), w.steps);
     EXPECT_GT(out.summary.at("steps").get<double>(), 0);

@@ -60,6 +60,10 @@ TINY = {
                           # 6 a side: a knock-out region at the centre (a field case) still leaves interior grains
                           "crystal": {"lattice": "sc", "grains_x": 6, "rows_z": 6, "layers_y": 6},
                           "loading": {"ramp_transits": 1, "relax_checks": 1, "max_relax_transits": 10}},
+    "crystal_tension": {"experiment": "crystal_tension", "grain": {"edge_spheres": 2},
+                        # 5 layers: a knock-out region at the centre (a field case) still leaves free layers
+                        "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 5, "layers_y": 1},
+                        "loading": {"rate_number": 0.1, "max_strain": 0.001}, "output": {"curve_points": 4}},
 }
 REGION = {"x": 0, "z": 0, "radius": 1}  # a valid element of an array of objects (crystal.knockout_regions)
 # Arrays whose elements hold exactly one of their fields (a loading program's segments): an element made

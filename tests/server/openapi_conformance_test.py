@@ -109,6 +109,9 @@ SHEAR = {"experiment": "crystal_shear", "grain": {"edge_spheres": 2},
          "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 1}}
 STIFFNESS = {"experiment": "crystal_stiffness", "grain": {"edge_spheres": 2},
              "crystal": {"lattice": "sc", "grains_x": 3, "rows_z": 3, "layers_y": 3}}
+TENSION = {"experiment": "crystal_tension", "grain": {"edge_spheres": 2},
+           "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 3, "layers_y": 1},
+           "contact": {"normal": "jkr", "surface_energy": 1}, "loading": {"confinement": "none"}}
 IMPERFECT = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
              "crystal": {"grains_x": 2, "rows_z": 2, "layers_y": 1},
              "imperfections": {"size_dispersion": 0.05, "misorientation": 5, "seed": 2147483647},
@@ -854,7 +857,7 @@ class OpenApiConformanceTest(unittest.TestCase):
                            ("all of those", ALL_BEYOND), ("the default experiment left out", NO_EXPERIMENT),
                            ("experiment null (the default)", NULL_EXPERIMENT), ("sections null", NULL_SECTIONS),
                            ("crystal_confinement", CONFINEMENT), ("crystal_shear", SHEAR),
-                           ("crystal_stiffness", STIFFNESS),
+                           ("crystal_stiffness", STIFFNESS), ("crystal_tension", TENSION),
                            ("imperfections at their bounds", IMPERFECT)]:
             cases.append(P("?dry_run=true", spec, expect=200, what=name))
         cases += [P("?dry_run=true", dict(CRYSTAL, crystal={"grains_x": 100, "rows_z": 400, "layers_y": 10}), expect=200,

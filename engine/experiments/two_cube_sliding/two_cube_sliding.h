@@ -15,7 +15,7 @@ namespace granulab {
 
 struct TwoCubeParams {
   GrainGeometry grain{Shape::cube, 0.01, 10, 0.75};
-  Material material{3.0e9, 1200, 0.3, 2.0 / 7, 0.05};
+  Material material{3.0e9, 1200, 0.3, 2.0 / 7, 0.05, {}};
   double prestrain = 0.005;       ///< eps0 (-)
   double max_slide = 0.8;         ///< final u / l (-)
   double rate_number = 1e-5;      ///< slide speed / sqrt(E/rho) (-)

@@ -60,7 +60,8 @@ Headline TwoCubeSlidingExperiment::headline() const {
              {{"friction_ratio", "friction ratio T / P", "-"}},
              {},
              {},
-             nullptr};
+             nullptr,
+             {}};
   // Eq. 1 of the paper: P/P0 = 1 - u/l, T/P0 = f (1 - u/l), up to the largest slide; in N times P0.
   const double f = params.material.friction, end = params.max_slide;
   const double p0 = params.material.youngs_modulus * params.grain.size * params.grain.size * params.prestrain;

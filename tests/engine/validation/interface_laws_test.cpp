@@ -114,8 +114,9 @@ TEST(InterfaceLaws, JkrPullsOffAtThreePiGammaRAndHoldsPastContact) {
     const double p = t.press(delta);
     most_tensile = std::min(most_tensile, p);
     if (p != 0) last_held = delta;
-    if (delta < -0.5 * break_depth && delta > -0.9 * break_depth)
+    if (delta < -0.5 * break_depth && delta > -0.9 * break_depth) {
       ASSERT_LT(p, 0.0) << "the bond holds apart at delta " << delta;  // the hysteresis: 0 on the way in
+    }
   }
   EXPECT_NEAR(-most_tensile, pulloff, 0.01 * pulloff);
   EXPECT_LE(-most_tensile, pulloff * (1 + 1e-9));
