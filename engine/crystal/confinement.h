@@ -2,7 +2,8 @@
 // faces with p0, both platens are servo-controlled to an axial stress of p0 (CrystalSample::axial_stress:
 // with fixed forces, the ends' forces carry p0 and the platens servo to bare contact), until the equilibrium criterion holds (wall
 // stresses within `equilibrium_tolerance` of p0 and kinetic energy below `kinetic_tolerance` of the
-// elastic energy, at `equilibrium_checks` membrane intervals in a row) or max_confinement_steps pass.
+// elastic energy, at `equilibrium_checks` membrane intervals in a row; cohesive laws measure both against their own
+// stress scale when it exceeds p0, see confine()) or max_confinement_steps pass.
 // The platens are left at rest.
 #pragma once
 

@@ -71,6 +71,12 @@ double quasi_static_rate_number(double confining_pressure, double youngs_modulus
   return std::clamp(confining_pressure / youngs_modulus, 1e-8, 0.1);  // the field's allowed range
 }
 
+double cohesive_stress_scale(const CrystalSampleParams& p) {
+  const GrainTemplate grain(p.grain);
+  const double s = grain.spacing();
+  return contact_law(grain, p.material).pulloff_force(grain.diameter() / 4) / (s * s);
+}
+
 CrystalLattice sample_lattice(const CrystalSampleParams& p) { return build_crystal(lattice_geometry(p)); }
 
 double crystal_time_step(const CrystalSampleParams& p) {

@@ -47,7 +47,7 @@ struct CrystalSampleParams {
   int membrane_interval = 200;       ///< steps between re-detections of the bag's surface (~0.1 s each at full size)
   ImperfectionParams imperfections;  ///< smaller and tilted grains (imperfections.h); none by default
   // Confinement (confinement.h).
-  double equilibrium_tolerance = 0.01;  ///< |wall stress - p0| / p0 (-)
+  double equilibrium_tolerance = 0.01;  ///< |wall stress - p0| / p0 (-); cohesive laws: / max(p0, cohesive scale)
   double kinetic_tolerance = 1e-4;      ///< kinetic / elastic energy (-)
   int equilibrium_checks = 3;           ///< consecutive membrane intervals meeting both (-)
   std::uint64_t max_confinement_steps = 200000;
@@ -79,6 +79,10 @@ double crystal_length_estimate(const CrystalSampleParams& p);
 /// p0 / E because a slip event loads the crystal by about E R (c / L) times its duration, against a
 /// strength of order p0.
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
+
+/// The order of the stress a cohesive law holds a crystal together with (Pa): one sphere pair's pull-off force
+/// F_pulloff(d / 4) over the area a pair holds on a face, s^2 (s the sphere spacing); 0 without cohesion.
+double cohesive_stress_scale(const CrystalSampleParams& p);
 
 /// c = sqrt(E / (rho x mass scaling)) (m/s): the grain material's bar wave speed, what the crystal loadings' rate
 /// numbers R = v / c and their ramps (in transits L / c) are measured in.

@@ -251,7 +251,8 @@ Headline CrystalCompressionExperiment::headline() const {
            {"peak.deviator_over_p0", "peak", "p0", "peak.strain", "peak.deviator"}},
           {{"segments", "loading segments"}, {"cycles", "load-unload cycles"}},
           {},
-          "platen stresses include p0"};
+          "platen stresses include p0",
+          {}};
   h.events = {"stress_drops.events", "strain", "stress drops"};
   // The rigid-grain estimate of the first yield (dashed, in the deviator's colour), when there is one.
   if (const auto e = yield_estimate(); e && e->found) {

@@ -57,7 +57,8 @@ Headline CrystalConfinementExperiment::headline() const {
           {{"prestrain", "pre-strain", "-"}},
           {},
           {},
-          nullptr};
+          nullptr,
+          {}};
 }
 
 Workload CrystalConfinementExperiment::workload() const {

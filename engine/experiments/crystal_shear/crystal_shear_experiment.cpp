@@ -231,7 +231,8 @@ Headline CrystalShearExperiment::headline() const {
               {"dilation_angle", "dilation angle at the peak", "deg"}},
              {{"segments", "loading segments"}},
              {},
-             "the shear stress the top layer receives, over the normal stress"};
+             "the shear stress the top layer receives, over the normal stress",
+             {}};
   if (const auto e = yield_estimate(); e && e->found) {
     const double ratio = first_sense(params) * e->shear_over_normal, sn = params.normal_stress;
     const double reach = first_sense(params) * params.max_shear_strain;

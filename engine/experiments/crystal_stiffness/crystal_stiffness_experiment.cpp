@@ -172,7 +172,8 @@ Headline CrystalStiffnessExperiment::headline() const {
            {"affine_prediction_error", "affine tensor against the face springs", "-"}},
           {{"moduli", "Young's modulus along the crystal's directions"}},
           {},
-          "each state's response against its imposed strain: the slopes are C11 ... C66, affine set then relaxed"};
+          "each state's response against its imposed strain: the slopes are C11 ... C66, affine set then relaxed",
+          {}};
 }
 
 Workload CrystalStiffnessExperiment::workload() const {

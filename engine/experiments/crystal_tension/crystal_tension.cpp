@@ -7,8 +7,6 @@
 #include "engine/crystal/end_layers.h"
 #include "engine/crystal/loading_program.h"
 #include "engine/framework/energy_report.h"
-#include "engine/geometry/grain_template.h"
-#include "engine/model/model.h"
 
 namespace granulab {
 
@@ -20,7 +18,9 @@ TensionParams::TensionParams() {
 const std::vector<CurveColumn>& TensionRow::columns() {
   static const std::vector<CurveColumn> c = [] {
     std::vector<CurveColumn> c = {
-        {"axial_strain", "-", "change of the grips' separation / their gap at the start, opening positive"},
+        {"axial_strain", "-",
+         "change of the grips' separation / the gauge length (between the grips' inner layers at the start), "
+         "opening positive"},
         {"tensile_stress", "Pa", "contact force the top grip receives against the pull / cross-section, tension positive"},
         {"tensile_stress_bottom", "Pa", "the bottom grip's contact force along the pull / cross-section"},
         {"kinetic_elastic_ratio", "-", "kinetic / elastic energy", 6},
@@ -50,20 +50,18 @@ TensionParams with_defaults(TensionParams p) {
 }  // namespace
 
 double tension_stress_scale(const TensionParams& p) {
-  const GrainTemplate grain(p.grain);
-  const double d = grain.diameter(), s = grain.spacing();
-  const double cohesion = contact_law(grain, p.material).pulloff_force(d / 4) / (s * s);
-  return std::max(p.confining_pressure, cohesion);
+  return std::max(p.confining_pressure, cohesive_stress_scale(p));
 }
 
-// At R = sigma / E a cohesive crystal's strength came out 3.5 % above its value at R -> 0, at a tenth of it 0.6 %
-// (a 4 x 4 x 6 dmt crystal, docs/results.md).
+// At R = 1e-5 (about sigma / E) a cohesive slab's strength came out 4.0 % above its value at R = 1e-7, at a tenth of
+// it 0.7 % (a 4 x 4 x 6 dmt crystal at gamma = 2, docs/results.md).
 double tension_default_rate_number(const TensionParams& p) {
   return quasi_static_rate_number(0.1 * tension_stress_scale(p), p.material.youngs_modulus);
 }
 
 bool tension_apart(const TensionPeak& peak, double strain, double top, double bottom) {
-  return peak.stress > 0 && strain > 2 * peak.strain && top < 0.01 * peak.stress && bottom < 0.01 * peak.stress;
+  return peak.stress > 0 && strain > 2 * peak.strain && std::abs(top) < 0.01 * peak.stress &&
+         std::abs(bottom) < 0.01 * peak.stress;
 }
 
 TensionLayers tension_layers(const TensionParams& p) {
@@ -72,8 +70,13 @@ TensionLayers tension_layers(const TensionParams& p) {
   out.count = heights.size();
   if (heights.empty()) return out;
   const double reach = p.grip_depth * p.grain.size + 1e-9 * p.grain.size;
-  for (double h : heights) out.free += h >= heights.front() + reach && h <= heights.back() - reach;
-  out.gap = heights.back() - heights.front();
+  double inner_bottom = heights.front(), inner_top = heights.back();
+  for (double h : heights) {
+    out.free += h >= heights.front() + reach && h <= heights.back() - reach;
+    if (h < heights.front() + reach) inner_bottom = h;
+    if (h > heights.back() - reach) inner_top = std::min(inner_top, h);
+  }
+  out.gap = inner_top - inner_bottom;
   return out;
 }
 
@@ -103,7 +106,7 @@ CrystalTension::CrystalTension(const TensionParams& params) : params_(with_defau
 
 double CrystalTension::strain_now() const {
   const std::vector<Vec3>& x = sample_.world().bodies().position;
-  return (mean_coordinate(grip_[1], x, 2) - mean_coordinate(grip_[0], x, 2) - ref_gap_) / ref_gap_;
+  return (mean_coordinate(grip_[1], x, 2) - mean_coordinate(grip_[0], x, 2) - ref_separation_) / gauge_;
 }
 
 double CrystalTension::grip_force(int grip) const {
@@ -197,8 +200,12 @@ void CrystalTension::confine_and_grip(Run& run) {
   world.start_energy_balance();
   layer_heights_ = layer_heights(ref_.position, grips.spacing);
   const std::vector<Vec3>& x = world.bodies().position;
-  ref_top_ = mean_coordinate(grip_[1], x, 2);
-  ref_gap_ = ref_top_ - mean_coordinate(grip_[0], x, 2);
+  ref_separation_ = mean_coordinate(grip_[1], x, 2) - mean_coordinate(grip_[0], x, 2);
+  // The gauge: from the bottom grip's highest grain to the top grip's lowest (their inner layers).
+  double inner_bottom = -HUGE_VAL, inner_top = HUGE_VAL;
+  for (BodyId b : grip_[0]) inner_bottom = std::max(inner_bottom, x[b].z());
+  for (BodyId b : grip_[1]) inner_top = std::min(inner_top, x[b].z());
+  gauge_ = inner_top - inner_bottom;
   run.at.pulling = true;
   record(run);
   take_due_snapshots(run);
@@ -221,7 +228,7 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
   run.tension_steps = std::max(1.0, tension_steps_expected(params_, gap_estimate));
   run.share = run.confinement_steps / (run.confinement_steps + run.tension_steps);
   if (!at.pulling) confine_and_grip(run);
-  run.ramp_time = 10 * ref_gap_ / c;
+  run.ramp_time = 10 * gauge_ / c;
   const double dt = world.settings().time_step, eps = 1e-12 * std::max(1.0, params_.max_strain);
   Bodies& bodies = world.bodies();
   const double area = sample_.cross_section();
@@ -229,7 +236,7 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
     {
       StageTimer control(world.stage_times().control);
       const double t = double(world.steps() - at.first) * dt;
-      const double remaining = (params_.max_strain - strain_now()) * ref_gap_ / run.speed;
+      const double remaining = (params_.max_strain - strain_now()) * gauge_ / run.speed;
       const double v = run.speed * platen_speed_fraction(t, run.ramp_time, remaining, false);
       for (BodyId b : grip_[1]) bodies.velocity[b] = Vec3(0, 0, v);
     }
@@ -237,7 +244,11 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
     StageTimer recording(world.stage_times().record);
     const double strain = strain_now(), top = -grip_force(1) / area, bottom = grip_force(0) / area;
     if (top > at.peak.stress) at.peak = TensionPeak{top, strain, world.steps() - at.first};
-    r.apart = tension_apart(at.peak, strain, top, bottom);
+    if (!tension_apart(at.peak, strain, top, bottom))
+      at.quiet_from = -1;
+    else if (at.quiet_from < 0)
+      at.quiet_from = strain;
+    r.apart = at.quiet_from >= 0 && strain - at.quiet_from >= at.peak.strain;
     take_due_snapshots(run);
     if (strain_now() >= at.row_strain + run.strain_per_row) record(run);
     const double fraction = double(world.steps() - at.first) / run.tension_steps;
@@ -250,7 +261,7 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
 
   r.peak = at.peak;
   r.failure = failure_plane();
-  r.gap = ref_gap_;
+  r.gauge = gauge_;
   r.cross_section = sample_.cross_section();
   r.speed = run.speed;
   r.grip_grains[0] = grip_[0].size(), r.grip_grains[1] = grip_[1].size();
@@ -275,7 +286,7 @@ void CrystalTension::state(Archive& a, Self& self, At& at, Result& r) {
   a.values(self.grip_[1]);
   a.values(self.layer_heights_);
   a.value(self.grip_layers_);
-  a.value(self.ref_top_), a.value(self.ref_gap_);
+  a.value(self.ref_separation_), a.value(self.gauge_);
 }
 
 void CrystalTension::save(CheckpointWriter& out, const Position& at, const TensionResult& r) const {

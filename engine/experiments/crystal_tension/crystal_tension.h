@@ -6,7 +6,8 @@
 //     loading.confinement "none" the bag goes too. The bottom grip stays; the top one moves along +z at the rate
 //     number's speed R c, ramped up over ten wave transits, to loading.max_strain.
 // The tensile stress is the contact force the top grip receives against the pull over the cross-section (and the
-// bottom grip's along it, the same when quasi-static); the strain the grips' separation over their gap at the start.
+// bottom grip's along it, the same when quasi-static); the strain the change of the grips' separation over the gauge
+// length, the distance between their inner layers (the rigid grips do not stretch).
 #pragma once
 
 #include <cstdint>
@@ -44,7 +45,7 @@ struct TensionRow {
 /// Where the crystal came apart: of the gaps between neighbouring layers along z, the one that opened most.
 struct FailurePlane {
   int gap = -1;          ///< between layers gap and gap + 1, counted from the bottom grip's (0); -1: none opened
-  double height = 0;     ///< that gap's mid-plane above the bottom grip's centres, at the start of the pull (m)
+  double height = 0;     ///< that gap's mid-plane above the bottom layer's centres, at the start of the pull (m)
   double opening = 0;    ///< how much it opened (m)
   double share = 0;      ///< its part of all the gaps' opening (-)
   const char* where = "none";  ///< "bottom grip", "top grip" (the gap at a grip's face) or "inside"
@@ -65,7 +66,7 @@ struct TensionResult {
   ConfinementReport confinement;
   RunStats run;
   FailurePlane failure;
-  double gap = 0;            ///< between the two grips' centre planes when the pull began (m)
+  double gauge = 0;          ///< gauge length: between the grips' inner layers when the pull began (m)
   double cross_section = 0;  ///< (m^2)
   double speed = 0;          ///< the top grip's full speed (m/s)
   std::size_t grip_grains[2] = {0, 0};
@@ -74,7 +75,8 @@ struct TensionResult {
   std::uint64_t tension_steps = 0;
 };
 
-/// The layers along z, those the grips leave free, and the grips' gap (m), from the lattice alone.
+/// The layers along z, those the grips leave free, and the gauge length between the grips' inner layers (m), from
+/// the lattice alone.
 struct TensionLayers {
   std::size_t count = 0, free = 0;
   double gap = 0;
@@ -88,8 +90,9 @@ double tension_steps_bound(const TensionParams& p, double gap);
 double tension_stress_scale(const TensionParams& p);
 /// R = sigma / (10 E), sigma = tension_stress_scale, within the field's range: the rate when loading.rate_number is 0.
 double tension_default_rate_number(const TensionParams& p);
-/// Whether a pull that reached `strain` with top and bottom tensile stresses (Pa) has come apart: the crystal carried
-/// tension once (peak.stress > 0), the strain is past twice the peak's, and both grips hold under 1 % of the peak.
+/// Whether a pull at `strain` with top and bottom tensile stresses (Pa) looks apart: the crystal carried tension once
+/// (peak.stress > 0), the strain is past twice the peak's, and both grips hold under 1 % of the peak in magnitude. The
+/// pull stops once this has held over a further strain equal to the peak's.
 bool tension_apart(const TensionPeak& peak, double strain, double top, double bottom);
 
 class CrystalTension {
@@ -106,6 +109,7 @@ class CrystalTension {
     std::uint64_t first = 0;  ///< world step at which the pull began
     std::size_t next_snapshot = 0;
     double row_strain = 0;    ///< strain of the last row
+    double quiet_from = -1;   ///< strain since which tension_apart() has held, -1: it does not
     std::uint64_t row_step = 0;
   };
   struct Run;
@@ -129,7 +133,8 @@ class CrystalTension {
   CrystalReference ref_;
   std::vector<double> layer_heights_;  ///< each layer's centre height at the start of the pull, ascending (m)
   int grip_layers_[2] = {0, 0};
-  double ref_top_ = 0, ref_gap_ = 0;
+  double ref_separation_ = 0;  ///< the grips' mean separation along z when the pull began (m)
+  double gauge_ = 0;           ///< the gauge length (m)
 };
 
 }  // namespace granulab

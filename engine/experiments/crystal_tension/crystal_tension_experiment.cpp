@@ -20,9 +20,9 @@ struct TensionSummary : ExperimentResult {
     write_run_stats(w, r.run);
     w.count("tension_steps", r.tension_steps);
     w.number("rate_number", params.rate_number, "-");
-    w.number("strain_rate", r.gap > 0 ? r.speed / r.gap : 0.0, "1/s");
+    w.number("strain_rate", r.gauge > 0 ? r.speed / r.gauge : 0.0, "1/s");
     w.text("confinement_while_pulling", params.bag ? "membrane" : "none");
-    w.number("gap", r.gap, "m");
+    w.number("gauge_length", r.gauge, "m");
     w.number("cross_section", r.cross_section, "m^2");
     w.count("layers", r.layers);
     w.number("grip_depth", params.grip_depth, "-");
