@@ -152,6 +152,13 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p, Indices* 
   visit_material(v, p.material);
   p.skin_factor = crystal_skin_factor(p.grain.overlap);
   visit_integration(v, p.time_step_factor, p.skin_factor);
+  v.number("local_damping", p.local_damping, {0, 0.99}, "-",
+           "lambda of each grain's local (non-viscous) damping: every component of its net force loses lambda times "
+           "its magnitude against that component of its velocity (Yade's NewtonIntegrator.damping); 0: none, the "
+           "paper's model (docs/model.md, \"Local damping\")");
+  if (p.local_damping_rotational < 0) p.local_damping_rotational = p.local_damping;
+  v.number("local_damping_rotational", p.local_damping_rotational, {0, 0.99}, "-",
+           "the same for its net torque against its angular velocity (default: run.local_damping)");
 
   v.section("crystal");
   if (shear_plane) shear_box_defaults(p);

@@ -32,6 +32,33 @@ void kick(Bodies& b, double h) {
   }
 }
 
+namespace {
+
+// The damping force of one vector quantity f against the rate u, component-wise: -lambda |f_c| sgn(u_c).
+Vec3 local_damping_force(const Vec3& f, const Vec3& u, double lambda) {
+  Vec3 d;
+  for (int c = 0; c < 3; ++c) d[c] = u[c] > 0 ? -lambda * std::abs(f[c]) : u[c] < 0 ? lambda * std::abs(f[c]) : 0.0;
+  return d;
+}
+
+}  // namespace
+
+double kick(Bodies& b, double h, const LocalDamping& damping) {
+  const long n = long(b.size());
+  double taken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : taken) if (n > 256)
+  for (long k = 0; k < n; ++k) {
+    if (b.motion[k] != Motion::dynamic) continue;
+    const Vec3 v0 = b.velocity[k];
+    const Vec3 fd = local_damping_force(b.force[k], v0, damping.translational);
+    b.velocity[k] += (b.force[k] + fd) / b.mass[k] * h;
+    const Vec3 td = local_damping_force(b.torque[k], b.angular_velocity[k], damping.rotational);
+    b.angular_momentum[k] += (b.torque[k] + td) * h;
+    taken -= fd.dot(v0 + b.velocity[k]) / 2 * h + td.dot(b.angular_velocity[k]) * h;
+  }
+  return taken;
+}
+
 void drift(Bodies& b, double dt) {
   const long n = long(b.size());
 #pragma omp parallel for schedule(static) if (n > 256)

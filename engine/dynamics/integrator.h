@@ -11,6 +11,19 @@ namespace granulab {
 
 /// v += F/m h and L += tau h for dynamic bodies.
 void kick(Bodies& bodies, double h);
+
+/// Local (non-viscous) damping of each body as a whole (Cundall's local damping; Yade's NewtonIntegrator.damping):
+/// each component of the net force loses a fraction of its magnitude against that component of the velocity,
+/// F_c - lambda |F_c| sgn(v_c), and each of the torque against the angular velocity with its own fraction. It takes
+/// kinetic energy out where a body accelerates or brakes, and nothing from steady motion under balanced forces.
+struct LocalDamping {
+  double translational = 0;  ///< lambda (-)
+  double rotational = 0;     ///< lambda of the torque (-)
+  bool on() const { return translational > 0 || rotational > 0; }
+};
+/// kick() with local damping; returns the energy the damping took (J, >= 0): - F_d . (v before + v after)/2 h for
+/// the force, - tau_d . omega h for the torque (omega as the kick finds it).
+double kick(Bodies& bodies, double h, const LocalDamping& damping);
 /// x += v dt and the free-rotor rotation for dynamic bodies; prescribed bodies move with their
 /// given velocity and angular velocity. Refreshes angular_velocity of dynamic bodies.
 void drift(Bodies& bodies, double dt);

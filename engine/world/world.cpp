@@ -80,7 +80,7 @@ void World::step() {
   const double dt = settings_.time_step;
   {
     StageTimer t(times_.integrate);
-    kick(bodies_, dt / 2);
+    half_kick(dt / 2);
     drift(bodies_, dt);
     for (Wall& w : walls_) w.point += w.velocity * dt;
     add_half_step_work(dt);  // with the forces of the step's start
@@ -91,10 +91,17 @@ void World::step() {
     add_half_step_work(dt);  // with the forces of its end
     energy_.friction += stats_.friction_loss;
     energy_.damping += stats_.damping_loss;
-    kick(bodies_, dt / 2);
+    half_kick(dt / 2);
   }
   time_ += dt;
   ++steps_;
+}
+
+void World::half_kick(double h) {
+  if (settings_.local_damping.on())
+    energy_.damping += kick(bodies_, h, settings_.local_damping);
+  else
+    kick(bodies_, h);
 }
 
 void World::compute_forces() {

@@ -15,6 +15,7 @@
 #include "engine/contact/neighbor_list.h"
 #include "engine/contact/pair_kernel.h"
 #include "engine/dynamics/bodies.h"
+#include "engine/dynamics/integrator.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/world/energy_balance.h"
 #include "engine/world/run_stats.h"
@@ -26,6 +27,7 @@ struct WorldSettings {
   double skin = 0;              ///< neighbour-list skin (m)
   Vec3 gravity = Vec3::Zero();  ///< m/s^2
   double min_scale = 1;         ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
+  LocalDamping local_damping;   ///< none by default (integrator.h)
 };
 
 struct ContactStats {
@@ -105,6 +107,8 @@ class World {
   void size_kernel_scratch();
   void sphere_contact_forces();
   void wall_forces();
+  /// kick() with the settings' local damping, its energy counted with the dashpots'.
+  void half_kick(double h);
   void add_half_step_work(double dt);  // world_energy.cpp
 
   GrainTemplate grain_;
