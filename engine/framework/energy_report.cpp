@@ -10,7 +10,8 @@ const std::vector<CurveColumn>& energy_columns() {
       {"confinement_work", "J", "work the confinement (bag or fixed forces) did on the grains since loading began"},
       {"elastic_energy", "J", "energy stored in the contacts (sphere-sphere and sphere-platen) now"},
       {"friction_dissipation", "J", "energy lost to sliding contacts since loading began"},
-      {"damping_dissipation", "J", "energy taken by the contacts' viscous damping since loading began"},
+      {"damping_dissipation", "J",
+       "energy taken by the contacts' viscous damping (and the grains' run.local_damping) since loading began"},
       {"kinetic_energy", "J", "kinetic energy of the grains now"},
       {"energy_residual", "J",
        "platen_work + confinement_work - (elastic_energy, kinetic_energy gained since loading began) - the two "

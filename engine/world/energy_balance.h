@@ -15,7 +15,7 @@ struct EnergyBalance {
   double confinement_work = 0;      ///< by the fixed per-grain forces (the bag, fixed face forces, gravity) (J)
   double elastic_energy = 0;        ///< stored in the sphere-sphere and sphere-wall contacts now (J)
   double friction_dissipation = 0;  ///< lost to sliding since the start (J)
-  double damping_dissipation = 0;   ///< taken by the contacts' dashpots since the start (J)
+  double damping_dissipation = 0;   ///< taken by the contacts' dashpots and the bodies' local damping since the start (J)
   double kinetic_energy = 0;        ///< of the dynamic grains now, translation and rotation (J)
   double energy_residual = 0;       ///< W_platen + W_confinement - dE_el - dK - D_friction - D_damping (J)
 };

@@ -27,7 +27,7 @@ struct WorldSettings {
   double skin = 0;              ///< neighbour-list skin (m)
   Vec3 gravity = Vec3::Zero();  ///< m/s^2
   double min_scale = 1;         ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
-  LocalDamping local_damping;   ///< none by default (integrator.h)
+  LocalDamping local_damping{};  ///< none by default (integrator.h)
 };
 
 struct ContactStats {
