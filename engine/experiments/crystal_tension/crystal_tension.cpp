@@ -232,17 +232,19 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
   const double dt = world.settings().time_step, eps = 1e-12 * std::max(1.0, params_.max_strain);
   Bodies& bodies = world.bodies();
   const double area = sample_.cross_section();
-  while (strain_now() < params_.max_strain - eps && !r.apart) {
+  // The grips' strain, once per step (grains move only in the step).
+  for (double strain = strain_now(); strain < params_.max_strain - eps && !r.apart;) {
     {
       StageTimer control(world.stage_times().control);
       const double t = double(world.steps() - at.first) * dt;
-      const double remaining = (params_.max_strain - strain_now()) * gauge_ / run.speed;
+      const double remaining = (params_.max_strain - strain) * gauge_ / run.speed;
       const double v = run.speed * platen_speed_fraction(t, run.ramp_time, remaining, false);
       for (BodyId b : grip_[1]) bodies.velocity[b] = Vec3(0, 0, v);
     }
     sample_.step(at.first);
     StageTimer recording(world.stage_times().record);
-    const double strain = strain_now(), top = -grip_force(1) / area, bottom = grip_force(0) / area;
+    strain = strain_now();
+    const double top = -grip_force(1) / area, bottom = grip_force(0) / area;
     if (top > at.peak.stress) at.peak = TensionPeak{top, strain, world.steps() - at.first};
     if (!tension_apart(at.peak, strain, top, bottom))
       at.quiet_from = -1;
@@ -250,10 +252,10 @@ TensionResult CrystalTension::run(ResultSink& sink, const CheckpointSource* resu
       at.quiet_from = strain;
     r.apart = at.quiet_from >= 0 && strain - at.quiet_from >= at.peak.strain;
     take_due_snapshots(run);
-    if (strain_now() >= at.row_strain + run.strain_per_row) record(run);
+    if (strain >= at.row_strain + run.strain_per_row) record(run);
     const double fraction = double(world.steps() - at.first) / run.tension_steps;
     if (!sink.progress(run.share + (1 - run.share) * std::min(0.99, fraction))) throw Cancelled();
-    if (strain_now() < params_.max_strain - eps && !r.apart) safe_point(run);
+    if (strain < params_.max_strain - eps && !r.apart) safe_point(run);
   }
   for (BodyId b : grip_[1]) bodies.velocity[b].setZero();
   if (at.row_step != world.steps()) record(run);
