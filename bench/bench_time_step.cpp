@@ -4,7 +4,7 @@
 // lets damping drain the kinetic energy and keeps the total from growing; an unstable one makes both
 // grow (exponentially, and the run stops with non-finite numbers).
 // Usage: bench_time_step [--factors 0.2,0.3,...] [--edge-spheres N] [--grains X,Z,Y] [--pressure Pa]
-//                        [--damping zeta] [--rest-steps S] [--threads T]
+//                        [--damping zeta] [--damping-velocity half_step|quarter_step] [--rest-steps S] [--threads T]
 // The evidence for the default run.time_step_factor (docs/model.md, "Time step"; bench/README.md).
 #include <omp.h>
 
@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
       if (g.size() == 3) p.grains_x = int(g[0]), p.rows_z = int(g[1]), p.layers_y = int(g[2]);
     } else if (a == "--pressure") p.confining_pressure = std::atof(v.c_str());
     else if (a == "--damping") p.material.damping = std::atof(v.c_str());
+    else if (a == "--damping-velocity")
+      p.damping_velocity = v == "quarter_step" ? DampingVelocity::quarter_step : DampingVelocity::half_step;
     else if (a == "--rest-steps") rest_steps = std::atol(v.c_str());
     else if (a == "--threads") omp_set_num_threads(std::atoi(v.c_str()));
     else {
@@ -55,9 +57,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::printf("crystal %d x %d x %d, N_e = %d, p0 = %g Pa, damping %g, %ld steps at rest after confinement\n",
+  std::printf("crystal %d x %d x %d, N_e = %d, p0 = %g Pa, damping %g (dashpots at %s), %ld steps at rest after "
+              "confinement\n",
               p.grains_x, p.rows_z, p.layers_y, p.grain.edge_spheres, p.confining_pressure, p.material.damping,
-              rest_steps);
+              p.damping_velocity == DampingVelocity::quarter_step ? "a quarter step" : "the half step", rest_steps);
   std::printf("%6s %11s %9s %16s %12s %12s %12s %14s %10s\n", "dt/t0", "confinement", "converged", "walls / p0",
               "KE/EE start", "KE/EE max", "KE/EE end", "total drift", "result");
   for (double f : factors) {

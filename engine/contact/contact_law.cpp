@@ -102,32 +102,38 @@ PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
 
 namespace {
 template <NormalModel N, TangentialModel T>
-ContactForce scalar_contact(const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel, Vec3& xi, double& bond) {
+ContactForce scalar_contact(const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel, const Vec3& v_damping,
+                            Vec3& xi, double& bond) {
   double hx = xi.x(), hy = xi.y(), hz = xi.z();
   const ContactTerms t = contact_terms<N, T>(c, delta, delta > 0, n.x(), n.y(), n.z(), v_rel.x(), v_rel.y(), v_rel.z(),
-                                             hx, hy, hz, bond);
+                                             v_damping.x(), v_damping.y(), v_damping.z(), hx, hy, hz, bond);
   xi = Vec3(hx, hy, hz);
   return {Vec3(t.fx, t.fy, t.fz), t.normal, t.slip, t.energy, t.damping, t.friction};
 }
 
 template <NormalModel N>
 ContactForce scalar_contact(TangentialModel tangential, const PairLaw& c, const Vec3& n, double delta,
-                            const Vec3& v_rel, Vec3& xi, double& bond) {
+                            const Vec3& v_rel, const Vec3& v_damping, Vec3& xi, double& bond) {
   return tangential == TangentialModel::mindlin
-             ? scalar_contact<N, TangentialModel::mindlin>(c, n, delta, v_rel, xi, bond)
-             : scalar_contact<N, TangentialModel::linear_history>(c, n, delta, v_rel, xi, bond);
+             ? scalar_contact<N, TangentialModel::mindlin>(c, n, delta, v_rel, v_damping, xi, bond)
+             : scalar_contact<N, TangentialModel::linear_history>(c, n, delta, v_rel, v_damping, xi, bond);
 }
 }  // namespace
 
 ContactForce contact_force(const ContactLaw& law, const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel,
                            Vec3& xi, double& bond) {
+  return contact_force(law, c, n, delta, v_rel, v_rel, xi, bond);
+}
+
+ContactForce contact_force(const ContactLaw& law, const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel,
+                           const Vec3& v_damping, Vec3& xi, double& bond) {
   switch (law.normal) {
-    case NormalModel::hooke: return scalar_contact<NormalModel::hooke>(law.tangential, c, n, delta, v_rel, xi, bond);
-    case NormalModel::hertz: return scalar_contact<NormalModel::hertz>(law.tangential, c, n, delta, v_rel, xi, bond);
+    case NormalModel::hooke: return scalar_contact<NormalModel::hooke>(law.tangential, c, n, delta, v_rel, v_damping, xi, bond);
+    case NormalModel::hertz: return scalar_contact<NormalModel::hertz>(law.tangential, c, n, delta, v_rel, v_damping, xi, bond);
     case NormalModel::hertz_material:
-      return scalar_contact<NormalModel::hertz_material>(law.tangential, c, n, delta, v_rel, xi, bond);
-    case NormalModel::dmt: return scalar_contact<NormalModel::dmt>(law.tangential, c, n, delta, v_rel, xi, bond);
-    case NormalModel::jkr: return scalar_contact<NormalModel::jkr>(law.tangential, c, n, delta, v_rel, xi, bond);
+      return scalar_contact<NormalModel::hertz_material>(law.tangential, c, n, delta, v_rel, v_damping, xi, bond);
+    case NormalModel::dmt: return scalar_contact<NormalModel::dmt>(law.tangential, c, n, delta, v_rel, v_damping, xi, bond);
+    case NormalModel::jkr: return scalar_contact<NormalModel::jkr>(law.tangential, c, n, delta, v_rel, v_damping, xi, bond);
   }
   return {};
 }

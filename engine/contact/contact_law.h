@@ -106,14 +106,15 @@ struct ContactTerms {
 
 /// The law for one candidate: unit normal (nx, ny, nz) from the second body to the first, overlap `delta` (m,
 /// negative when apart), `touching` (the centres closer than the contact distance, as the caller measured it),
-/// relative velocity of the first body at the contact point (vx, vy, vz) (m/s). Updates the shear history (hx, hy,
-/// hz) (m) and, for jkr, the bond flag (1 bonded, 0 not): a pair out of contact forgets both. Branch-free (selects
-/// only), so the kernel's loop vectorises across candidates; N and T are fixed per run.
+/// relative velocity of the first body at the contact point (vx, vy, vz) (m/s), which moves the shear history, and
+/// the velocity the dashpots see (wx, wy, wz) (m/s; the same, or the lagged one of World's damping_velocity). Updates
+/// the shear history (hx, hy, hz) (m) and, for jkr, the bond flag (1 bonded, 0 not): a pair out of contact forgets
+/// both. Branch-free (selects only), so the kernel's loop vectorises across candidates; N and T are fixed per run.
 template <NormalModel N, TangentialModel T>
 inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& c, double delta, bool touching, double nx,
                                                                  double ny, double nz, double vx, double vy, double vz,
-                                                                 double& hx_io, double& hy_io, double& hz_io,
-                                                                 double& bond_io) {
+                                                                 double wx, double wy, double wz, double& hx_io,
+                                                                 double& hy_io, double& hz_io, double& bond_io) {
   constexpr bool hooke = N == NormalModel::hooke, jkr = N == NormalModel::jkr;
   constexpr bool cohesive = is_cohesive(N), mindlin = T == TangentialModel::mindlin;
   const double kn = c.kn, dt = c.dt;
@@ -153,7 +154,10 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
   const double spring = kt > 0 ? 1.0 : 0.0, loss = kt > 0 ? inv_kt : (ct > 0 ? dt / ct : 0.0);
   const double vn = vx * nx + vy * ny + vz * nz;
   const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;
-  const double fn = fe - cn * vn;
+  // The dashpots' velocity, normal and tangential.
+  const double wn = wx * nx + wy * ny + wz * nz;
+  const double sx = wx - wn * nx, sy = wy - wn * ny, sz = wz - wn * nz;
+  const double fn = fe - cn * wn;
 
   // Shear history: into the current tangent plane, length kept, then the tangential increment.
   double hx = hx_io, hy = hy_io, hz = hz_io;
@@ -165,15 +169,15 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
   hx = hx * keep + tx * dt, hy = hy * keep + ty * dt, hz = hz * keep + tz * dt;
 
   // Tangential force with the Coulomb cap; on slip the spring is reset to match the cap.
-  double gx = -kt * hx - ct * tx, gy = -kt * hy - ct * ty, gz = -kt * hz - ct * tz;
+  double gx = -kt * hx - ct * sx, gy = -kt * hy - ct * sy, gz = -kt * hz - ct * sz;
   const double cap = c.mu * std::abs(cohesive ? fe + 2 * c.pulloff : fn);
   const double g2 = gx * gx + gy * gy + gz * gz;
   const bool slip = g2 > cap * cap;
   const double scale = slip ? cap / std::sqrt(g2) : 1.0;
   gx *= scale, gy *= scale, gz *= scale;
-  hx = slip ? -(gx + ct * tx) * inv_kt : hx;
-  hy = slip ? -(gy + ct * ty) * inv_kt : hy;
-  hz = slip ? -(gz + ct * tz) * inv_kt : hz;
+  hx = slip ? -(gx + ct * sx) * inv_kt : hx;
+  hy = slip ? -(gy + ct * sy) * inv_kt : hy;
+  hz = slip ? -(gz + ct * sz) * inv_kt : hz;
 
   // Pairs out of contact forget their history and exert nothing.
   hx_io = contact ? hx : 0.0, hy_io = contact ? hy : 0.0, hz_io = contact ? hz : 0.0;
@@ -194,9 +198,9 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
                       c.jkr_w * c.jkr_w / (6 * c.jkr_e * c.r_eff));
   } else potential = 0.4 * kn * a * delta * delta - (cohesive ? c.pulloff * delta : 0.0);
   out.energy = contact ? potential + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
-  // This step's losses: the dashpots' work, the tangential one only while sticking, and on slip the Coulomb force
-  // times the slip, cap (1 - scale) |g| / k_t.
-  out.damping = contact ? dt * (cn * vn * vn + (slip ? 0.0 : ct * (tx * tx + ty * ty + tz * tz))) : 0.0;
+  // This step's losses: the dashpots' work over the step's motion (their force times v dt), the tangential one only
+  // while sticking, and on slip the Coulomb force times the slip, cap (1 - scale) |g| / k_t.
+  out.damping = contact ? dt * (cn * wn * vn + (slip ? 0.0 : ct * (sx * tx + sy * ty + sz * tz))) : 0.0;
   if constexpr (jkr) {
     // A bond made jumps onto the curve below zero energy (the snap-in gives up -potential); one broken leaves it at
     // break_energy and returns to zero. Both are the adhesion hysteresis, counted with the losses.
@@ -223,6 +227,9 @@ struct ContactForce {
 /// in place; the law is chosen at run time (once per call: loops over many contacts use contact_terms directly).
 ContactForce contact_force(const ContactLaw& law, const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel,
                            Vec3& xi, double& bond);
+/// The same with the dashpots seeing `v_damping` (m/s) rather than v_rel (WorldSettings::damping_velocity).
+ContactForce contact_force(const ContactLaw& law, const PairLaw& c, const Vec3& n, double delta, const Vec3& v_rel,
+                           const Vec3& v_damping, Vec3& xi, double& bond);
 
 /// The same for a non-bonding pair of effective radius r_eff (m) and mass m_eff (kg).
 ContactForce contact_force(const ContactLaw& law, const Vec3& n, double delta, const Vec3& v_rel, double r_eff,

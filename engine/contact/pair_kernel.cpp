@@ -78,8 +78,11 @@ inline __attribute__((always_inline)) Contribution contact(const PairKernelConst
   const double px = r.ax - lever * nx, py = r.ay - lever * ny, pz = r.az - lever * nz;
   const double vx = c.v0.x() + c.dw.y() * pz - c.dw.z() * py, vy = c.v0.y() + c.dw.z() * px - c.dw.x() * pz,
                vz = c.v0.z() + c.dw.x() * py - c.dw.y() * px;
+  const Vec3 &u0 = c.v0_damping, &du = c.dw_damping;
+  const double wx = u0.x() + du.y() * pz - du.z() * py, wy = u0.y() + du.z() * px - du.x() * pz,
+               wz = u0.z() + du.x() * py - du.y() * px;
   const ContactTerms t =
-      contact_terms<N, T>(c.law, delta, touching, nx, ny, nz, vx, vy, vz, hx_io, hy_io, hz_io, bond_io);
+      contact_terms<N, T>(c.law, delta, touching, nx, ny, nz, vx, vy, vz, wx, wy, wz, hx_io, hy_io, hz_io, bond_io);
   Contribution out;
   out.fx = t.fx, out.fy = t.fy, out.fz = t.fz;
   out.mx = py * out.fz - pz * out.fy, out.my = pz * out.fx - px * out.fz, out.mz = px * out.fy - py * out.fx;

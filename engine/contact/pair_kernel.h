@@ -21,6 +21,7 @@ struct PairKernelConstants {
   Mat3 ra, rb;              ///< their orientations (body -> world)
   Vec3 v0;                  ///< v_a - v_b - w_b x (x_a - x_b): relative velocity at x_a (m/s)
   Vec3 dw;                  ///< w_a - w_b (rad/s)
+  Vec3 v0_damping, dw_damping;  ///< v0 and dw of the velocities the dashpots see (World::damping_velocity) (m/s, rad/s)
 };
 
 struct PairKernelSums {

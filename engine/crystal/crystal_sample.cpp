@@ -23,6 +23,7 @@ WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate
   s.skin = p.skin_factor * grain.diameter();
   s.local_damping.translational = p.local_damping;
   s.local_damping.rotational = p.local_damping_rotational < 0 ? p.local_damping : p.local_damping_rotational;
+  s.damping_velocity = p.damping_velocity;
   return s;
 }
 

@@ -44,6 +44,7 @@ struct CrystalSampleParams {
   double skin_factor = 0.01;         ///< skin / d (-); see crystal_skin_factor()
   double local_damping = 0;          ///< lambda of each grain's net force (-); 0: none (integrator.h, LocalDamping)
   double local_damping_rotational = -1;  ///< lambda of its net torque (-); negative: local_damping
+  DampingVelocity damping_velocity = DampingVelocity::half_step;  ///< what the dashpots see (world.h)
   double bridge_span = 1.5;          ///< the bag spans holes: see Membrane; in grain sizes a (-)
   double bridge_depth = 0.3;         ///< in grain sizes a (-); layers are a/sqrt3 = 0.577 a apart along y
   int membrane_interval = 200;       ///< steps between re-detections of the bag's surface (~0.1 s each at full size)

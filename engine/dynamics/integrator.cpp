@@ -83,6 +83,21 @@ void drift(Bodies& b, double dt) {
   }
 }
 
+void kicked_velocities(const Bodies& b, double h, std::vector<Vec3>& velocity, std::vector<Vec3>& angular_velocity) {
+  const long n = long(b.size());
+  velocity.resize(n), angular_velocity.resize(n);
+#pragma omp parallel for schedule(static) if (n > 256)
+  for (long k = 0; k < n; ++k) {
+    if (b.motion[k] != Motion::dynamic) {
+      velocity[k] = b.velocity[k], angular_velocity[k] = b.angular_velocity[k];
+      continue;
+    }
+    const Quat& q = b.orientation[k];
+    velocity[k] = b.velocity[k] + b.force[k] / b.mass[k] * h;
+    angular_velocity[k] = q * (q.conjugate() * (b.angular_momentum[k] + b.torque[k] * h)).cwiseQuotient(b.inertia[k]);
+  }
+}
+
 void update_angular_velocity(Bodies& b) {
   for (std::size_t k = 0; k < b.size(); ++k) {
     if (b.motion[k] != Motion::dynamic) continue;

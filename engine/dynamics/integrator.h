@@ -5,6 +5,8 @@
 // conserves it to rounding; energy error stays bounded (no drift) as for any symplectic scheme.
 #pragma once
 
+#include <vector>
+
 #include "engine/dynamics/bodies.h"
 
 namespace granulab {
@@ -27,6 +29,9 @@ double kick(Bodies& bodies, double h, const LocalDamping& damping);
 /// x += v dt and the free-rotor rotation for dynamic bodies; prescribed bodies move with their
 /// given velocity and angular velocity. Refreshes angular_velocity of dynamic bodies.
 void drift(Bodies& bodies, double dt);
+/// The velocities a kick of h would give, without giving them: v + F/m h and R I^-1 R^T (L + tau h) for dynamic bodies,
+/// the given ones for prescribed bodies (m/s, rad/s; resized to the bodies).
+void kicked_velocities(const Bodies& bodies, double h, std::vector<Vec3>& velocity, std::vector<Vec3>& angular_velocity);
 /// angular_velocity = R I^-1 R^T L for dynamic bodies.
 void update_angular_velocity(Bodies& bodies);
 

@@ -80,12 +80,15 @@ void World::step() {
   const double dt = settings_.time_step;
   {
     StageTimer t(times_.integrate);
+    lagged_damping_ = settings_.damping_velocity == DampingVelocity::quarter_step;
+    if (lagged_damping_) kicked_velocities(bodies_, dt / 4, damping_velocity_, damping_angular_velocity_);
     half_kick(dt / 2);
     drift(bodies_, dt);
     for (Wall& w : walls_) w.point += w.velocity * dt;
     add_half_step_work(dt);  // with the forces of the step's start
   }
   compute_forces();
+  lagged_damping_ = false;  // an evaluation outside a step sees the bodies' velocities
   {
     StageTimer t(times_.integrate);
     add_half_step_work(dt);  // with the forces of its end
@@ -213,6 +216,13 @@ void World::sphere_contact_forces() {
       c.rb = rotation_[gp.b];
       c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
       c.dw = wa - wb;
+      if (lagged_damping_) {
+        const Vec3 ua = damping_angular_velocity_[gp.a], ub = damping_angular_velocity_[gp.b];
+        c.v0_damping = damping_velocity_[gp.a] - damping_velocity_[gp.b] - ub.cross(xa - xb);
+        c.dw_damping = ua - ub;
+      } else {
+        c.v0_damping = c.v0, c.dw_damping = c.dw;
+      }
       // Where most candidates did not touch at the last evaluation, distances first (PairKernel).
       const bool sparse = double(pair_contacts_[p]) < kSparseShare * double(gp.count);
       const PairKernelSums s =
@@ -298,12 +308,14 @@ void World::wall_forces() {
     const Vec3 c = centre - dist * w.normal;  // foot of the sphere centre on the plane
     const Vec3 arm = c - bodies_.position[b];
     const Vec3 v_rel = bodies_.velocity[b] + bodies_.angular_velocity[b].cross(arm) - w.velocity;
+    const Vec3 v_damping =
+        lagged_damping_ ? damping_velocity_[b] + damping_angular_velocity_[b].cross(arm) - w.velocity : v_rel;
     PairLaw pair = wall_constants;
     if (w.friction >= 0) pair.mu = w.friction;
     pair.cn = pair_damping(wall_law, bodies_.mass[b]), pair.ct = pair.cn / 2;
     pair.r_eff = radius * bodies_.scale[b];
     double no_bond = 0;  // walls do not bond
-    const ContactForce cf = contact_force(wall_law, pair, w.normal, delta, v_rel, history[k], no_bond);
+    const ContactForce cf = contact_force(wall_law, pair, w.normal, delta, v_rel, v_damping, history[k], no_bond);
     wall_force_[k] = cf.force;
     wall_torque_[k] = arm.cross(cf.force);
     wall_energy_[k] = {cf.energy, cf.damping, cf.friction};

@@ -22,12 +22,19 @@
 
 namespace granulab {
 
+/// The velocity the contacts' dashpots see at a step's force evaluation (docs/model.md, "Damping velocity").
+enum class DampingVelocity {
+  half_step,     ///< velocity Verlet's v(t + h/2), as LAMMPS: stable for omega h < 2 (sqrt(1 + zeta^2) - zeta)
+  quarter_step,  ///< v(t) + a(t) h/4: the same bound with zeta / 2, so heavily damped stiff modes take a larger h
+};
+
 struct WorldSettings {
   double time_step = 0;         ///< s
   double skin = 0;              ///< neighbour-list skin (m)
   Vec3 gravity = Vec3::Zero();  ///< m/s^2
   double min_scale = 1;         ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
   LocalDamping local_damping{};  ///< none by default (integrator.h)
+  DampingVelocity damping_velocity = DampingVelocity::half_step;
 };
 
 struct ContactStats {
@@ -128,6 +135,9 @@ class World {
   std::vector<Vec3> pair_force_, pair_torque_a_, pair_torque_b_;
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
   std::vector<double> pair_overlap_, pair_energy_, pair_damping_, pair_friction_;
+  // The dashpots' velocities in a step (DampingVelocity::quarter_step), and whether this evaluation uses them.
+  std::vector<Vec3> damping_velocity_, damping_angular_velocity_;
+  bool lagged_damping_ = false;
   std::vector<double> overlap_sum_;
   std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
   std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
