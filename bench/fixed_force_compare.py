@@ -131,6 +131,8 @@ def run_granulab(confinement, args, out):
             "loading": {"confining_pressure": args.pressure, "max_strain": args.max_strain,
                         "rate_number": args.rate, "confinement": confinement},
             "output": {"curve_points": 400, "snapshot_strains": []},
+            # LAMMPS' velocity Verlet: the dashpots see the half-step velocity; the time step of fixed_force_lammps.
+            "run": {"damping_velocity": "half_step", "time_step_factor": 0.2},
             "label": "fixed_force_compare: %s, %s" % (args.grains, confinement)}
     folder = os.path.join(out, "granulab_" + confinement)
     os.makedirs(folder, exist_ok=True)

@@ -85,6 +85,7 @@ int main(int argc, char** argv) try {
   p.wall_friction = o.friction;
   p.grains_x = o.grains[0], p.rows_z = o.grains[1], p.layers_y = o.grains[2];
   p.confining_pressure = o.pressure;
+  p.time_step_factor = 0.2;  // the granulab side's (fixed_force_compare.py), whatever the crystals' default
   CrystalSample sample(p);
   const World& world = std::as_const(sample).world();
   const Bodies& bodies = world.bodies();

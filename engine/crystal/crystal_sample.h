@@ -40,11 +40,11 @@ struct CrystalSampleParams {
   double confining_pressure = 60e3;  ///< p0 (Pa)
   double mass_scaling = 1.0;         ///< density factor (-)
   double wall_friction = -1;         ///< platens' Coulomb coefficient (-); negative: material.friction
-  double time_step_factor = 0.2;     ///< dt / t0 (-)
+  double time_step_factor = 0.3;     ///< dt / t0 (-); with quarter-step dashpots (docs/model.md, "Time step")
   double skin_factor = 0.01;         ///< skin / d (-); see crystal_skin_factor()
   double local_damping = 0;          ///< lambda of each grain's net force (-); 0: none (integrator.h, LocalDamping)
   double local_damping_rotational = -1;  ///< lambda of its net torque (-); negative: local_damping
-  DampingVelocity damping_velocity = DampingVelocity::half_step;  ///< what the dashpots see (world.h)
+  DampingVelocity damping_velocity = DampingVelocity::quarter_step;  ///< what the dashpots see (world.h)
   double bridge_span = 1.5;          ///< the bag spans holes: see Membrane; in grain sizes a (-)
   double bridge_depth = 0.3;         ///< in grain sizes a (-); layers are a/sqrt3 = 0.577 a apart along y
   int membrane_interval = 200;       ///< steps between re-detections of the bag's surface (~0.1 s each at full size)

@@ -161,10 +161,10 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p, Indices* 
            "the same for its net torque against its angular velocity (default: run.local_damping)");
   std::string dashpots = p.damping_velocity == DampingVelocity::quarter_step ? "quarter_step" : "half_step";
   v.choice("damping_velocity", dashpots, {"half_step", "quarter_step"},
-           "the velocity the contacts' dashpots see at a step's force evaluation: half_step, velocity Verlet's "
-           "v(t + dt/2) as in LAMMPS; quarter_step, v(t) + a(t) dt/4, under which the stiff, heavily damped modes of a "
-           "finely discretised crystal stay stable at a larger run.time_step_factor (docs/model.md, \"Damping "
-           "velocity\")");
+           "the velocity the contacts' dashpots see at a step's force evaluation: quarter_step, v(t) + a(t) dt/4, stable "
+           "and converged at the default run.time_step_factor 0.3 on the paper's N_e = 10 crystal; half_step, velocity "
+           "Verlet's v(t + dt/2) as in LAMMPS, which on that crystal needs about 0.1 to converge (docs/model.md, "
+           "\"Time step\", \"Damping velocity\")");
   p.damping_velocity = dashpots == "quarter_step" ? DampingVelocity::quarter_step : DampingVelocity::half_step;
 
   v.section("crystal");

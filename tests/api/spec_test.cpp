@@ -185,6 +185,8 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   // An extension: the grains' local damping, off by default (the paper's model).
   expected["run"]["local_damping"] = 0.0;
   expected["run"]["local_damping_rotational"] = 0.0;
+  // An extension: which velocity the dashpots see; the quarter step lets the default time step be 0.3 t0.
+  expected["run"]["damping_velocity"] = "quarter_step";
   EXPECT_EQ(got, expected) << got.dump(2);
 }
 

@@ -303,7 +303,7 @@ class WebPageTest(unittest.TestCase):
         # A slow, long run: the line turns into a warning, and Submit asks first (answered no: nothing queued).
         before = len(self.daemon.call("GET", "/v1/jobs?limit=1000")["jobs"])
         self.browser.js("""(() => { window.asked = '';  window.confirm = (m) => { window.asked = m; return false; };
-                           const i = document.getElementById('f-loading.rate_number'); i.value = '1e-7';
+                           const i = document.getElementById('f-loading.rate_number'); i.value = '4e-8';
                            i.dispatchEvent(new Event('input', { bubbles: true })); })()""")
         self.browser.until("document.querySelector('#submit-cost .warning') !== null")
         self.browser.js("document.getElementById('submit').click()")
