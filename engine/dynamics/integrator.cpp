@@ -20,6 +20,11 @@ void rotate_about_axis(int k, double h, const Vec3& inertia, Quat& q, Vec3& lb) 
   q = q * Quat(Eigen::AngleAxisd(phi, axis));
 }
 
+// omega = R I^-1 R^T L: the world-frame angular velocity of a body of orientation q and principal inertia `inertia`.
+Vec3 angular_velocity_of(const Quat& q, const Vec3& momentum, const Vec3& inertia) {
+  return q * (q.conjugate() * momentum).cwiseQuotient(inertia);
+}
+
 }  // namespace
 
 void kick(Bodies& b, double h) {
@@ -92,17 +97,15 @@ void kicked_velocities(const Bodies& b, double h, std::vector<Vec3>& velocity, s
       velocity[k] = b.velocity[k], angular_velocity[k] = b.angular_velocity[k];
       continue;
     }
-    const Quat& q = b.orientation[k];
     velocity[k] = b.velocity[k] + b.force[k] / b.mass[k] * h;
-    angular_velocity[k] = q * (q.conjugate() * (b.angular_momentum[k] + b.torque[k] * h)).cwiseQuotient(b.inertia[k]);
+    angular_velocity[k] = angular_velocity_of(b.orientation[k], b.angular_momentum[k] + b.torque[k] * h, b.inertia[k]);
   }
 }
 
 void update_angular_velocity(Bodies& b) {
   for (std::size_t k = 0; k < b.size(); ++k) {
     if (b.motion[k] != Motion::dynamic) continue;
-    const Quat& q = b.orientation[k];
-    b.angular_velocity[k] = q * (q.conjugate() * b.angular_momentum[k]).cwiseQuotient(b.inertia[k]);
+    b.angular_velocity[k] = angular_velocity_of(b.orientation[k], b.angular_momentum[k], b.inertia[k]);
   }
 }
 
