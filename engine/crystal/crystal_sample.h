@@ -75,12 +75,10 @@ double expected_confinement_steps(const CrystalSampleParams& p);
 /// The platens' gap before confinement (m): the end rows' outermost sphere surfaces, as the sample places
 /// its walls, from the lattice and the grain's spheres alone (a few microseconds, no world built).
 double crystal_length_estimate(const CrystalSampleParams& p);
-/// The default rate number R = p0 / E (-) of every crystal loading, within [1e-8, 0.1]: a constant rate whose curve stays within
-/// 2 % of one at R = 5e-6 or less (mean deviator and mean top against bottom over strain windows, first
-/// yield), measured at 10, 30 and 60 kPa on N_e = 4 crystals to 3 % and on the reference crystal at
-/// N_e = 10 to 2 %, where 1.5 p0 / E was off by 2.1 % (docs/results.md, "Quasi-static rate"). It scales with
-/// p0 / E because a slip event loads the crystal by about E R (c / L) times its duration, against a
-/// strength of order p0.
+/// The quasi-static rate scale R = p0 / E (-), within [1e-8, 0.1]: the default rate number of the shear and
+/// tension loadings, and the unit a compression's rate is measured in (default_compression_rate_number(),
+/// QuasiStaticQuality). It scales with p0 / E because a slip event loads the crystal by about E R (c / L) times
+/// its duration, against a strength of order p0 (docs/results.md, "Quasi-static rate").
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);
 
 /// The order of the stress a cohesive law holds a crystal together with (Pa): one sphere pair's pull-off force

@@ -163,9 +163,9 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   json expected = json::parse(kContractCrystalExample);
   expected["label"] = "";
   expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
-  // Deliberate departures: the default rate is the one shown quasi-static, p0 / E (docs/results.md,
+  // Deliberate departures: the default rate is the one shown quasi-static, 1.5 p0 / E (docs/results.md,
   // "Quasi-static rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
-  expected["loading"]["rate_number"] = 60e3 / 3e9;
+  expected["loading"]["rate_number"] = 1.5 * (60e3 / 3e9);
   expected["crystal"]["knockout_regions"] = json::array();
   expected["loading"]["wall_friction"] = 0.35;      // an extension: the platens' f, by default the grains'
   expected["loading"]["confinement"] = "membrane";  // extensions: the bag, and no loading program
@@ -241,11 +241,22 @@ TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
     return parse_spec_text(text).normalized["loading"]["rate_number"].get<double>();
   };
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 10000}})"),
-                   1e4 / 3e9);
+                   1.5 * 1e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"confining_pressure": 30000},
                             "material": {"youngs_modulus": 1e9}})"),
-                   3e-5);
+                   4.5e-5);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"rate_number": 1e-4}})"), 1e-4);
+  // A program that releases the platen runs at p0 / E (its turning points' secants grow with the rate); one that
+  // only compresses and holds keeps 1.5 p0 / E.
+  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
+                            "program": [{"to_strain": 0.01}, {"to_deviator": 0}, {"to_strain": 0.02}]}})"),
+                   6e4 / 3e9);
+  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
+                            "program": [{"to_strain": 0.02}, {"to_strain": 0.01}]}})"),
+                   6e4 / 3e9);
+  EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
+                            "program": [{"to_strain": 0.01}, {"hold_steps": 100}, {"to_strain": 0.02}]}})"),
+                   1.5 * (6e4 / 3e9));
 }
 
 TEST(SpecNormalized, TwoCubeContainsEveryDefault) {

@@ -272,7 +272,7 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const CheckpointSource* 
   run.speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   if (!at.compressing) confine_and_begin(run);
   // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
-  // stress wave of amplitude E R (p0 at the default R = p0 / E) through it. Between segments it also
+  // stress wave of amplitude E R (1.5 p0 at the default R = 1.5 p0 / E) through it. Between segments it also
   // slows down (platen_speed_fraction).
   run.ramp_time = 10 * ref_length_ / wave_speed;
   while (at.segment < run.schedule.program.size()) run_segment(run);

@@ -53,9 +53,15 @@ std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve,
 }
 
 
+double default_compression_rate_number(double confining_pressure, double youngs_modulus, bool reverses) {
+  return std::min((reverses ? 1.0 : 1.5) * quasi_static_rate_number(confining_pressure, youngs_modulus), 0.1);
+}
+
 namespace {
 CrystalParams with_rate(CrystalParams p) {
-  if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
+  if (!(p.rate_number > 0))
+    p.rate_number =
+        default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus, program_reverses(p.program));
   return p;
 }
 }  // namespace

@@ -69,7 +69,7 @@ TEST(CrystalCompression, YieldsAndYieldStressIsProportionalToP0) {
   EXPECT_NEAR(high.peak / low.peak, 3.0, 0.3) << "peaks " << low.peak << " and " << high.peak;
 }
 
-// The default rate (p0 / E) against half of it: the first yield peak within 2 %, as calibrated on
+// The default rate (1.5 p0 / E) against p0 / (2E): the first yield peak within 2 %, as calibrated on
 // the reference crystal against R = 5e-6 (docs/results.md, "Quasi-static rate").
 TEST(CrystalCompression, DefaultRateIsQuasiStatic) {
   const CrystalParams base = small_crystal(30e3);
