@@ -5,7 +5,7 @@ usage: /usr/bin/python3 examples/lattice_axes.py [--out DIR] [--threads N] [--ma
                                                  [--reuse] [--only NAME ...] [--estimates-only]
 
 Runs one crystal_compression per case with `build/granulab run` (N_e = 4, kappa = 0.75, p0 = 30 kPa,
-f = 0.35, the default quasi-static rate), each a box about W x W x 2W (W in cubic cells a, default 4: aspect
+f = 0.35, R = p0/E), each a box about W x W x 2W (W in cubic cells a, default 4: aspect
 ratio 2), then prints a markdown table (first yield, peak, apparent modulus; the box as built) and writes
 DIR/lattice_axes.csv and, with matplotlib (Debian: python3-matplotlib), DIR/lattice_axes.png, the curves.
 The apparent modulus is the secant of the deviator between 10 % and 40 % of the first yield, over strain.
@@ -135,7 +135,8 @@ def spec(name, lattice, axis, lateral, width, max_strain):
         "grain": {"size": 0.01, "edge_spheres": 4, "overlap": 0.75},
         "material": {"youngs_modulus": 3e9, "density": 1200, "friction": 0.35},
         "crystal": {"lattice": lattice, "grains_x": gx, "layers_y": ly, "rows_z": rz},
-        "loading": {"axis": axis, "lateral": lateral, "confining_pressure": 30e3, "max_strain": max_strain},
+        "loading": {"axis": axis, "lateral": lateral, "confining_pressure": 30e3, "max_strain": max_strain,
+                    "rate_number": 30e3 / 3e9},  # p0/E, as the results were measured
         "output": {"curve_points": 200, "snapshot_strains": []},
     }
 

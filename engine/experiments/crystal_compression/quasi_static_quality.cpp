@@ -11,12 +11,14 @@ namespace {
 // The largest |bias| of the first yield and of the strain-window means (0.05 % to 3 %) measured at each rate
 // ratio, against a run at a quarter to half of p0/E (docs/results.md, "Quasi-static rate"): the reference
 // crystal at N_e = 4 (10-60 kPa) and N_e = 10 (60 kPa) up to 2 p0/E, the 6 x 12 x 3 crystal (N_e = 4) at
-// 30 and 60 kPa up to 30 p0/E (bench/rate_bias.py). Each point is the largest of those crystals' or near it.
+// 30 and 60 kPa up to 30 p0/E (bench/rate_bias.py). Each point is the largest of those crystals' or near it. Up to
+// 2 p0/E at the converged time step (2026-12-06): 1.26 % at p0/E (N_e = 10), 2.09 % at 1.5 p0/E (the 6 x 12 x 3
+// crystal at 30 kPa, one window; the reference crystal 1.63 %), 3.19 % at 2 p0/E (6 x 12 x 3, 60 kPa).
 struct CalibrationPoint {
   double ratio, bias;
 };
 constexpr CalibrationPoint kCalibration[] = {
-    {0, 0}, {1, 0.016}, {1.5, 0.021}, {2, 0.034}, {3, 0.04}, {5, 0.07}, {10, 0.22}, {30, 0.53},
+    {0, 0}, {1, 0.013}, {1.5, 0.021}, {2, 0.032}, {3, 0.04}, {5, 0.07}, {10, 0.22}, {30, 0.53},
 };
 
 std::string format(const char* f, double a, double b = 0, double c = 0) {
@@ -58,23 +60,29 @@ QuasiStaticQuality assess_quasi_static(const CrystalParams& p, const CrystalResu
   }
   if (rows) q.platen_imbalance_rms = std::sqrt(sum_imbalance / rows), q.kinetic_elastic_mean = sum_kinetic / rows;
 
-  if (q.expected_bias > 0.02)
+  // Faster than the default and likely over 2 % off (the default itself reaches 2.1 % in one window of the small
+  // 6 x 12 x 3 crystal; the reference crystal's, at N_e = 4 and 10, stay within 1.63 %).
+  const double default_ratio = default_compression_rate_number(p0, p.material.youngs_modulus,
+                                                               program_reverses(p.program)) / quasi_static;
+  if (q.expected_bias > 0.02 && q.rate_over_quasi_static > default_ratio * (1 + 1e-9))
     q.warnings.push_back(format(
         "loading.rate_number %.3g is %.3g x p0/E: a curve run this fast is expected to be stronger than the "
         "quasi-static one by up to about %.0f %% (first yield and strain-window means; docs/results.md, "
         "\"Quasi-static rate\"); the default rate 1.5 p0/E (p0/E for a program that releases the platen) is "
-        "within 2 %%",
+        "within about 2 %%",
         p.rate_number, q.rate_over_quasi_static, 100 * q.expected_bias));
-  // Measured, whatever the rate: at p0/E the rms is 0.2-0.6 % and the mean ratio about 0.002 (1.5 p0/E: 0.4 %, 0.004).
+  // Measured, whatever the rate. At the default 1.5 p0/E the rms is 0.3-0.6 %; the mean kinetic-to-elastic ratio
+  // 0.002-0.004 on the reference crystal, 0.012-0.015 on the 6 x 12 x 3 one and 0.023 on a 4 x 8 x 3 one, whose
+  // curves stay within about 2 %; at 3 p0/E it reaches 0.044, at 5 p0/E 0.12 (docs/results.md).
   if (q.platen_imbalance_rms > 0.02)
     q.warnings.push_back(format(
         "the top and bottom platen stresses differ by %.1f %% rms (up to %.0f %%) past 0.05 %% strain: the "
         "stress wave of the loading has not crossed the sample; quasi-static runs here stay below 1 %%",
         100 * q.platen_imbalance_rms, 100 * q.platen_imbalance_max));
-  if (q.kinetic_elastic_mean > 0.02)
+  if (q.kinetic_elastic_mean > 0.05)
     q.warnings.push_back(format(
-        "the kinetic energy was %.2g of the elastic energy on average over the loading (quasi-static runs here: "
-        "about 0.002): inertia carries part of the load",
+        "the kinetic energy was %.2g of the elastic energy on average over the loading (at the default rate: "
+        "0.002-0.004 on the reference crystal, up to about 0.02 on small ones): inertia carries part of the load",
         q.kinetic_elastic_mean));
 
   // The slip-plane and layer hints speak of the paper's crystal, whose {111} planes they measure.
