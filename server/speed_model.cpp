@@ -25,10 +25,10 @@ constexpr TablePoint kTable[] = {
     {23760, 216, 9.15e7},   // crystal_quick (8.54e7, 9.81e7)
     {95040, 864, 1.07e8},   // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4: 0.96-1.15e8)
     {260928, 864, 2.30e8},  // fig7a_ne6
-    // crystal_ref_p60 at 0.3 t0 with quarter-step dashpots: 169,854 steps in 456.6 s, 2026-12-06, on a VM whose probe
-    // read 0.84 of the table machine (3.13e8 there). At 0.2 t0 it was 4.38e8 (252,279 steps in 485 s): a step now
-    // costs 7 % more (the dashpots' second velocity) and the grains drift a skin in fewer steps.
-    {841536, 864, 3.73e8},
+    // crystal_ref_p60 at its defaults (1.5 p0/E, 0.3 t0, quarter-step dashpots): 115,624 steps in 267.7 s, 2026-12-06,
+    // on a VM whose probe read 0.74 of the table machine (median of 10 daemon starts, 0.70-0.77; 3.64e8 there). Before
+    // the contact loop's guided chunks and the serial integrator, 3.73e8 (p0/E: 169,854 steps in 456.6 s).
+    {841536, 864, 4.91e8},
 };
 
 // The speed probe (engine/crystal/speed_probe.h) on 2 threads on the machine of the table (1/s).

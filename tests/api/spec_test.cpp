@@ -165,7 +165,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["material"]["tangential_stiffness_ratio"] = 2.0 / 7;
   // Deliberate departures: the default rate is the one shown quasi-static, 1.5 p0 / E (docs/results.md,
   // "Quasi-static rate"), not the example's 1e-4, and knock-out regions normalise to an empty list.
-  expected["loading"]["rate_number"] = 1.5 * (60e3 / 3e9);
+  expected["loading"]["rate_number"] = 1.5 * 60e3 / 3e9;
   expected["crystal"]["knockout_regions"] = json::array();
   expected["loading"]["wall_friction"] = 0.35;      // an extension: the platens' f, by default the grains'
   expected["loading"]["confinement"] = "membrane";  // extensions: the bag, and no loading program
@@ -256,7 +256,7 @@ TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
                    6e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
                             "program": [{"to_strain": 0.01}, {"hold_steps": 100}, {"to_strain": 0.02}]}})"),
-                   1.5 * (6e4 / 3e9));
+                   1.5 * 6e4 / 3e9);
 }
 
 TEST(SpecNormalized, TwoCubeContainsEveryDefault) {
