@@ -22,7 +22,10 @@ The granulab side: `granulab run` on the same crystal, material, damping, p0 and
 loading.confinement fixed_forces and membrane (the bag confines first, then the loading starts).
 
 Prints the mean deviator / p0 over the strain windows 0.1-0.5, 0.5-1, ..., 2.5-3 % (each curve resampled on a
-uniform strain grid) and every curve's ratio to the first LAMMPS variant; writes windows.csv and each curve.
+uniform strain grid) and every curve's ratio to the first LAMMPS variant; writes windows.csv and each curve. Then
+the time per step of each run (LAMMPS: its loop time; granulab: its run, set-up included) and how many times
+faster granulab's first run stepped than the first LAMMPS variant: the dense, confined case of issue 30 is
+`--grains 6,14,4 --edge-spheres 10 --max-strain 0.003 --granulab face_forces` (bench/README.md).
 Standard library only; LAMMPS (Debian's lmp, mpirun) is installed if missing (bench/lammps_compare.py).
 """
 import argparse
@@ -119,7 +122,15 @@ def run_lammps(variant, args, out):
             # The platens push the crystal: bottom +z, top -z; their mean over the cross-section.
             curve.append((speed * dt * step / length, (f_bottom - f_top) / 2 / area))
     print("  LAMMPS %-13s %6.0f s  (%s)" % (variant, seconds, folder))
+    with open(os.path.join(folder, "log.lammps")) as f:
+        loop = [line.split() for line in f if line.startswith("Loop time of")]
+    # "Loop time of T on N procs for S steps with A atoms"
+    STEP_SECONDS["LAMMPS " + variant] = float(loop[-1][3]) / float(loop[-1][8]) if loop else float("nan")
     return curve
+
+
+# Seconds per step of each run, by curve name (run_lammps, run_granulab).
+STEP_SECONDS = {}
 
 
 def run_granulab(confinement, args, out):
@@ -143,6 +154,9 @@ def run_granulab(confinement, args, out):
                               os.path.join(folder, "run.log"))
     with open(os.path.join(folder, "run", "curve.csv")) as f:
         curve = [(0.0, 0.0)] + [(float(r["strain"]), float(r["deviator"])) for r in csv.DictReader(f)]
+    with open(os.path.join(folder, "run", "summary.json")) as f:
+        summary = json.load(f)
+    STEP_SECONDS["granulab " + confinement] = summary["wall_seconds"] / max(1, summary["steps"])
     print("  granulab %-11s %6.0f s  (%s)" % (confinement, seconds, folder))
     return curve
 
@@ -199,6 +213,11 @@ def main():
     for name, curve in curves:
         with open(os.path.join(out, name.replace(" ", "_") + ".csv"), "w") as f:
             f.write("strain,deviator\n" + "".join("%.9g,%.9g\n" % row for row in curve))
+    print("\ntime per step (%d ranks / threads): " % args.ranks +
+          ", ".join("%s %.3g ms" % (name, 1e3 * STEP_SECONDS[name]) for name, _ in curves if name in STEP_SECONDS))
+    ours = [name for name, _ in curves if name.startswith("granulab")]
+    if ours and base in STEP_SECONDS:
+        print("%s steps %.1fx faster than %s" % (ours[0], STEP_SECONDS[base] / STEP_SECONDS[ours[0]], base))
 
 
 if __name__ == "__main__":
