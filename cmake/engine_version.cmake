@@ -1,11 +1,13 @@
 # Writes OUTPUT, a C++ file defining granulab::api::engine_version() as "<VERSION>+<hash>", where the hash
 # is SHA-256 over the relative path and content of every .h and .cpp under SOURCE_DIR/engine and
-# SOURCE_DIR/api (but api/pictures), in sorted order (first 12 hex digits). Run at build time by a custom command that
+# SOURCE_DIR/api (but api/pictures), and of engine/CMakeLists.txt (its compile flags change the bits: the contact
+# kernel's vector width), in sorted order (first 12 hex digits). Run at build time by a custom command that
 # depends on those files; the output is rewritten only when the text changes, so an unchanged tree does
 # not relink.
 #   cmake -DSOURCE_DIR=... -DOUTPUT=... -DVERSION=... -P engine_version.cmake
 file(GLOB_RECURSE sources RELATIVE "${SOURCE_DIR}"
      "${SOURCE_DIR}/engine/*.h" "${SOURCE_DIR}/engine/*.cpp" "${SOURCE_DIR}/api/*.h" "${SOURCE_DIR}/api/*.cpp")
+list(APPEND sources "engine/CMakeLists.txt")
 # api/pictures/ draws results; it does not compute them.
 list(FILTER sources EXCLUDE REGEX "^api/pictures/")
 list(SORT sources)

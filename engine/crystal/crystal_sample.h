@@ -75,8 +75,8 @@ double expected_confinement_steps(const CrystalSampleParams& p);
 /// The platens' gap before confinement (m): the end rows' outermost sphere surfaces, as the sample places
 /// its walls, from the lattice and the grain's spheres alone (a few microseconds, no world built).
 double crystal_length_estimate(const CrystalSampleParams& p);
-/// The quasi-static rate scale R = p0 / E (-), within [1e-8, 0.1]: the default rate number of the shear and
-/// tension loadings, and the unit a compression's rate is measured in (default_compression_rate_number(),
+/// The quasi-static rate scale R = p0 / E (-), within [1e-8, 0.1]: the shear's default rate number (tension calls it
+/// with sigma / 10 in place of p0), and the unit a compression's rate is measured in (default_compression_rate_number(),
 /// QuasiStaticQuality). It scales with p0 / E because a slip event loads the crystal by about E R (c / L) times
 /// its duration, against a strength of order p0 (docs/results.md, "Quasi-static rate").
 double quasi_static_rate_number(double confining_pressure, double youngs_modulus);

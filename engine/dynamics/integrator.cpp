@@ -6,7 +6,7 @@ namespace granulab {
 
 namespace {
 
-// Below this many bodies the loops here run on one thread. Entering a parallel region wakes the sleeping
+// Up to this many bodies the loops here run on one thread. Entering a parallel region wakes the sleeping
 // threads (passive waiting, the shared server's setting), which costs tens of microseconds, more than these
 // loops' work at the reference crystal's 864 grains: serial, the integration stage fell from 0.32 to 0.12 ms
 // per step (4 regions a step; the drift alone, 5 sin/cos per grain, still ran faster serial: 0.16 ms parallel).

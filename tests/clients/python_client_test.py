@@ -524,8 +524,9 @@ class PythonClientTest(unittest.TestCase):
 
     # -- latest row and warnings in the status ---------------------------------------------------------
     def test_running_job_shows_its_latest_row(self):
-        # A compression of 2e5 steps (about 2 s on one thread): rows are stored every second while it runs.
-        job = self.client.submit(dict(CRYSTAL, loading={"max_strain": 0.01, "rate_number": 3e-7},
+        # A compression of 4e5 steps (2-4 s on one thread; 2e5 steps finished too soon to be seen running once small
+        # crystals stepped faster): rows are stored every second while it runs.
+        job = self.client.submit(dict(CRYSTAL, loading={"max_strain": 0.01, "rate_number": 1.5e-7},
                                       output={"curve_points": 40}, run={"threads": 1}))
         latest_seen, listed = [], []
         deadline = time.monotonic() + 60

@@ -71,7 +71,7 @@ QuasiStaticQuality assess_quasi_static(const CrystalParams& p, const CrystalResu
         "\"Quasi-static rate\"); the default rate 1.5 p0/E (p0/E for a program that releases the platen) is "
         "within about 2 %%",
         p.rate_number, q.rate_over_quasi_static, 100 * q.expected_bias));
-  // Measured, whatever the rate. At the default 1.5 p0/E the rms is 0.3-0.6 %; the mean kinetic-to-elastic ratio
+  // Measured, whatever the rate. At the default 1.5 p0/E the rms is 0.3-0.65 %; the mean kinetic-to-elastic ratio
   // 0.002-0.004 on the reference crystal, 0.012-0.015 on the 6 x 12 x 3 one and 0.023 on a 4 x 8 x 3 one, whose
   // curves stay within about 2 %; at 3 p0/E it reaches 0.044, at 5 p0/E 0.12 (docs/results.md).
   if (q.platen_imbalance_rms > 0.02)

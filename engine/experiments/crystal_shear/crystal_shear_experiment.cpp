@@ -194,7 +194,8 @@ void CrystalShearExperiment::parameters(ParameterVisitor& v) {
            "for");
   if (!(p.rate_number > 0)) p.rate_number = quasi_static_rate_number(p.confining_pressure, p.material.youngs_modulus);
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-",
-           "R = v / sqrt(E/rho), v the top layer's speed (default: p0 / E, as compression's quasi-static rate)");
+           "R = v / sqrt(E/rho), v the top layer's speed (default: p0 / E, the quasi-static scale; compression's "
+           "default is 1.5 p0 / E)");
   visit_program(v, p);
   // Two layers are the platens: at least one more must shear between them.
   std::size_t layers = 3;

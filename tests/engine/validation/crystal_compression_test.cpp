@@ -76,7 +76,7 @@ TEST(CrystalCompression, DefaultRateIsQuasiStatic) {
   CrystalParams half = base;
   half.rate_number = quasi_static_rate_number(base.confining_pressure, base.material.youngs_modulus) / 2;
   const YieldRun r = compress(base), h = compress(half);
-  EXPECT_NEAR(r.peak / h.peak, 1.0, 0.02) << "R/2 = " << half.rate_number << ": " << r.peak << " vs " << h.peak;
+  EXPECT_NEAR(r.peak / h.peak, 1.0, 0.02) << "p0/(2E) = " << half.rate_number << ": " << r.peak << " vs " << h.peak;
   EXPECT_LT(r.top_bottom_gap, 0.05);
 }
 
