@@ -44,9 +44,9 @@ double hold_steps(const std::vector<LoadSegment>& program);
 
 /// The platen's speed as a fraction of the program's speed, `t` (s) into a segment that moves it:
 /// it accelerates linearly over `ramp` (s) from rest, since a sudden start sends a stress wave of
-/// amplitude E R through the sample; a segment followed by another also slows down over its last
-/// `ramp` of travel, `remaining` (s at full speed), to 5 % of the speed at which it stops, so that
-/// turning points are not struck either.
+/// amplitude E R through the sample; a segment followed by another (and a release to a deviator, even
+/// the last) also slows down over its last `ramp` of travel, `remaining` (s at full speed), to 5 % of
+/// the speed at which it stops, so that turning points are not struck either.
 double platen_speed_fraction(double t, double ramp, double remaining, bool slow_down);
 
 }  // namespace granulab

@@ -169,6 +169,23 @@ void CrystalCompression::begin_segment(Run& run, const LoadSegment& segment) {
   run.r.segments.push_back(begun);
 }
 
+// Where a release to a deviator ends is not known in advance: the strain left is extrapolated from the
+// deviator left and the branch's slope between its last two rows (rows come every p0 / 20 of deviator
+// change, so this is the local slope). Until the segment has two rows, or when the slope does not point
+// to the target, it is taken as far (one ramp at full speed: no slowing down). Without this the platen
+// reached the target at full speed and turned at once: the deviator read at the turn lacked the dashpots'
+// share, and the reloading's secant from it came out 4 % stiff at p0 / E (docs/results.md).
+double CrystalCompression::release_remaining(const Run& run, const LoadSegment& segment) const {
+  const std::vector<CrystalRow>& rows = run.r.curve;
+  const std::size_t n = rows.size();
+  if (n < run.r.segments.back().first_row + 3) return run.ramp_time;
+  const CrystalRow &a = rows[n - 2], &b = rows[n - 1];
+  const double slope = (b.deviator - a.deviator) / (b.strain - a.strain);  // Pa per unit strain, > 0 releasing
+  const double left = deviator() - segment.value;                           // Pa, > 0 until the target
+  if (!(slope > 0) || !(left > 0)) return run.ramp_time;
+  return std::min(run.ramp_time, left / slope * ref_length_ / run.speed);
+}
+
 // The top platen moves, the bottom one is fixed, as in a test machine: the stress wave then crosses the
 // sample, so top and bottom forces agree only when the loading is quasi-static.
 void CrystalCompression::drive_platen(const Run& run, const LoadSegment& segment, bool last) {
@@ -179,8 +196,10 @@ void CrystalCompression::drive_platen(const Run& run, const LoadSegment& segment
   const double t = (world.steps() - run.at.segment_first) * world.settings().time_step;
   const double remaining = segment.kind == LoadSegment::Kind::to_strain
                                ? std::abs(segment.value - strain_now()) * ref_length_ / run.speed
-                               : run.ramp_time;  // where a release to a deviator ends is not known
-  const bool slow_down = !last && segment.kind == LoadSegment::Kind::to_strain;
+                               : release_remaining(run, segment);
+  // A release slows down even as the last segment: where it ends is a cycle's residual strain.
+  const bool slow_down =
+      segment.kind == LoadSegment::Kind::to_deviator || (!last && segment.kind != LoadSegment::Kind::hold);
   top.velocity = top.normal * (direction * run.speed *
                                (direction ? platen_speed_fraction(t, run.ramp_time, remaining, slow_down) : 0.0));
 }

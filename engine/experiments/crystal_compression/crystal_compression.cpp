@@ -154,7 +154,8 @@ static double release_fraction(const CrystalParams& p) { return 0.45 * std::clam
 // The platen accelerates linearly over a ramp of ten wave transits (half a ramp lost); a to_strain segment
 // followed by another slows down over its last ramp of travel, its speed in proportion to what is left (an
 // exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
-// lost. A release to a deviator has no slow-down, and gives back release_fraction() of the strain reached.
+// lost. A release to a deviator slows down the same way (its distance left extrapolated from the deviator
+// left), even as the last segment, and gives back release_fraction() of the strain reached.
 std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step) {
   const double c = crystal_wave_speed(p), speed = p.rate_number * c, ramp = 10 * length / c;
   std::vector<LoadSegment> program = p.program;
@@ -167,7 +168,8 @@ std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, dou
       out.push_back({"hold " + std::to_string(s.steps) + " steps", double(s.steps)});
       continue;
     }
-    const bool slows_down = s.kind == LoadSegment::Kind::to_strain && k + 1 < program.size();
+    const bool slows_down =
+        s.kind == LoadSegment::Kind::to_deviator || (s.kind == LoadSegment::Kind::to_strain && k + 1 < program.size());
     const double seconds = travel[k] * length / speed + ramp * (0.5 + (slows_down ? 3.0 : 0.0));
     out.push_back({s.kind == LoadSegment::Kind::to_strain ? "to_strain " + percent(s.value)
                                                           : "to_deviator " + std::to_string(int(s.value)) + " Pa",

@@ -146,6 +146,8 @@ class CrystalCompression {
   void begin_segment(Run& run, const LoadSegment& segment);
   bool segment_done(const Run& run, const LoadSegment& segment) const;
   void drive_platen(const Run& run, const LoadSegment& segment, bool last);
+  /// A release to a deviator: the time (s at full speed) left until it gets there, for the slowing down.
+  double release_remaining(const Run& run, const LoadSegment& segment) const;
   void record_due_rows(Run& run, const LoadSegment& segment);
   void track_stress_drops(Run& run);
   void run_segment(Run& run);
