@@ -51,18 +51,6 @@ double travel_bound(const std::vector<LoadSegment>& program) {
   return sum(travels(program, [](double) { return -0.05; }));
 }
 
-bool program_reverses(const std::vector<LoadSegment>& program) {
-  double strain = 0;
-  for (const LoadSegment& s : program) {
-    if (s.kind == LoadSegment::Kind::to_deviator) return true;
-    if (s.kind == LoadSegment::Kind::to_strain) {
-      if (s.value < strain) return true;
-      strain = s.value;
-    }
-  }
-  return false;
-}
-
 double hold_steps(const std::vector<LoadSegment>& program) {
   double steps = 0;
   for (const LoadSegment& s : program)

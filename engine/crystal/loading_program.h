@@ -36,9 +36,6 @@ std::vector<double> planned_segment_travels(const std::vector<LoadSegment>& prog
 /// An upper bound of that travel (-): a to_deviator segment may release down to a strain of -0.05 (then
 /// the run fails). For cost estimates, which budgets and time limits rely on.
 double travel_bound(const std::vector<LoadSegment>& program);
-/// Whether the program ever releases the platen (a to_deviator segment, or a to_strain below the strain before it):
-/// its turning points, where the secant slopes of load-unload cycles are measured.
-bool program_reverses(const std::vector<LoadSegment>& program);
 /// The time steps of the program's hold segments (-).
 double hold_steps(const std::vector<LoadSegment>& program);
 

@@ -432,8 +432,7 @@ async function submitView() {
       let value = input.value.trim();
       if (value === "" && f.type !== "string") continue;  // left empty: the default
       // Left at the shown default: let the server fill it, since some defaults follow other fields
-      // (loading.rate_number = 1.5 p0/E, or p0/E with a program that releases the platen;
-      // loading.wall_friction = material.friction).
+      // (loading.rate_number = 1.5 p0/E; loading.wall_friction = material.friction).
       if (input.dataset.defaultText && value === input.dataset.defaultText) continue;
       if (f.type === "number" || f.type === "integer") value = Number(value);
       else if (f.type.startsWith("array")) {

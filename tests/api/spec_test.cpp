@@ -246,14 +246,14 @@ TEST(SpecDefaults, CrystalRateFollowsP0OverE) {
                             "material": {"youngs_modulus": 1e9}})"),
                    4.5e-5);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"rate_number": 1e-4}})"), 1e-4);
-  // A program that releases the platen runs at p0 / E (its turning points' secants grow with the rate); one that
-  // only compresses and holds keeps 1.5 p0 / E.
+  // A program, releasing the platen or not, runs at the same 1.5 p0 / E (its turns slow down: Fig. 1c's cycles
+  // within 1.01 % of R = 5e-6 there).
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
                             "program": [{"to_strain": 0.01}, {"to_deviator": 0}, {"to_strain": 0.02}]}})"),
-                   6e4 / 3e9);
+                   1.5 * 6e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
                             "program": [{"to_strain": 0.02}, {"to_strain": 0.01}]}})"),
-                   6e4 / 3e9);
+                   1.5 * 6e4 / 3e9);
   EXPECT_DOUBLE_EQ(rate(R"({"experiment": "crystal_compression", "loading": {"max_strain": 0.02,
                             "program": [{"to_strain": 0.01}, {"hold_steps": 100}, {"to_strain": 0.02}]}})"),
                    1.5 * 6e4 / 3e9);

@@ -53,17 +53,15 @@ std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve,
 }
 
 
-double default_compression_rate_number(double confining_pressure, double youngs_modulus, bool reverses) {
-  // factor x p0 / E, in this order: 60 kPa and 3 GPa give the double nearest 3e-5 (1.5 x 2e-5 rounds above it).
-  const double factor = reverses ? 1.0 : 1.5;
-  return std::clamp(factor * confining_pressure / youngs_modulus, 1e-8, 0.1);
+double default_compression_rate_number(double confining_pressure, double youngs_modulus) {
+  // 1.5 x p0 / E, in this order: 60 kPa and 3 GPa give the double nearest 3e-5 (1.5 x 2e-5 rounds above it).
+  return std::clamp(1.5 * confining_pressure / youngs_modulus, 1e-8, 0.1);
 }
 
 namespace {
 CrystalParams with_rate(CrystalParams p) {
   if (!(p.rate_number > 0))
-    p.rate_number =
-        default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus, program_reverses(p.program));
+    p.rate_number = default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus);
   return p;
 }
 }  // namespace

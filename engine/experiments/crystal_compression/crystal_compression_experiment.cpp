@@ -218,13 +218,10 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
       "'loading.confinement' " + confinement +
           " needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
   visit_program(v, p);
-  // After the program, which sets the default (describing the spec, its one item is a hold: no reversal).
   if (!(p.rate_number > 0))
-    p.rate_number =
-        default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus, program_reverses(p.program));
+    p.rate_number = default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus);
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-",
-           "R = L eps_dot / sqrt(E/rho) (default: 1.5 p0 / E; p0 / E with a loading.program that releases the "
-           "platen; quasi-static to 2 %, docs/results.md)");
+           "R = L eps_dot / sqrt(E/rho) (default: 1.5 p0 / E, quasi-static to 2 %, docs/results.md)");
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000,
             "curve rows (a quarter of them over the first 2.5 % of the run)");

@@ -62,14 +62,12 @@ QuasiStaticQuality assess_quasi_static(const CrystalParams& p, const CrystalResu
 
   // Faster than the default and likely over 2 % off (the default itself reaches 2.1 % in one window of the small
   // 6 x 12 x 3 crystal; the reference crystal's, at N_e = 4 and 10, stay within 1.63 %).
-  const double default_ratio = default_compression_rate_number(p0, p.material.youngs_modulus,
-                                                               program_reverses(p.program)) / quasi_static;
+  const double default_ratio = default_compression_rate_number(p0, p.material.youngs_modulus) / quasi_static;
   if (q.expected_bias > 0.02 && q.rate_over_quasi_static > default_ratio * (1 + 1e-9))
     q.warnings.push_back(format(
         "loading.rate_number %.3g is %.3g x p0/E: a curve run this fast is expected to be stronger than the "
         "quasi-static one by up to about %.0f %% (first yield and strain-window means; docs/results.md, "
-        "\"Quasi-static rate\"); the default rate 1.5 p0/E (p0/E for a program that releases the platen) is "
-        "within about 2 %%",
+        "\"Quasi-static rate\"); the default rate 1.5 p0/E is within about 2 %%",
         p.rate_number, q.rate_over_quasi_static, 100 * q.expected_bias));
   // Measured, whatever the rate. At the default 1.5 p0/E the rms is 0.3-0.65 %; the mean kinetic-to-elastic ratio
   // 0.002-0.004 on the reference crystal, 0.012-0.015 on the 6 x 12 x 3 one and 0.023 on a 4 x 8 x 3 one, whose

@@ -48,7 +48,7 @@ TEST(LatticeCompression, EveryLatticeConfinesToP0AndCarriesLoad) {
     // the platen has come up to speed. It accelerates over ten wave transits, 5 R of strain; the stiff bcc crystal
     // passes a deviator of p0 within that ramp, where the top leads the bottom by a transit's loading (5.7 % at
     // 5e-5 strain at the default R = 1.5 p0/E, 1.3 % after it).
-    const double ramp_strain = 5 * default_compression_rate_number(p0, Material().youngs_modulus, false);
+    const double ramp_strain = 5 * default_compression_rate_number(p0, Material().youngs_modulus);
     double peak = 0, gap = 0;
     for (const CrystalRow& row : r.curve) {
       peak = std::max(peak, row.deviator);

@@ -23,7 +23,7 @@ CrystalParams small_crystal() {
   p.grains_x = 4, p.rows_z = 8, p.layers_y = 4;
   p.confining_pressure = kP0;
   p.max_strain = 0.01;
-  p.rate_number = 2e-5;  // twice p0 / E (these programs' default, as they release the platen): quasi-static enough here
+  p.rate_number = 2e-5;  // twice p0 / E: quasi-static enough here
   p.curve_points = 100;
   p.snapshot_strains = {};
   return p;
