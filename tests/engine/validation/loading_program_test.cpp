@@ -80,8 +80,10 @@ TEST(LoadingProgram, UnloadsToTheDeviatorLeavesAResidualStrainAndReloads) {
   EXPECT_LT(settled - unloaded.deviator, 0.05 * kP0);
 
   // Reloading to 0.3 %: back past the old peak strain, with the deviator rising again.
+  // The last segment does not slow down: it ends within one step's travel at full speed past its target.
   const CrystalRow& end = r.curve.back();
-  EXPECT_NEAR(end.strain, 0.003, 1e-6);
+  EXPECT_GE(end.strain, 0.003);
+  EXPECT_LE(end.strain, 0.003 + r.strain_rate * experiment.world().settings().time_step);
   EXPECT_GT(end.deviator, 2 * kP0);
 
   // The cycle as the summary reports it.
@@ -112,7 +114,8 @@ TEST(LoadingProgram, ReleasingToAStrainMovesThePlatenBack) {
   const CrystalResult r = experiment.run();
   ASSERT_EQ(r.segments.size(), 2u);
   EXPECT_EQ(r.segments[1].direction, -1);
-  EXPECT_NEAR(r.curve.back().strain, 0.001, 1e-6);
+  EXPECT_LE(r.curve.back().strain, 0.001);
+  EXPECT_GE(r.curve.back().strain, 0.001 - r.strain_rate * experiment.world().settings().time_step);
   EXPECT_LT(r.curve.back().deviator, r.curve[r.segments[0].last_row].deviator);
 }
 
@@ -208,9 +211,14 @@ TEST(FixedForces, AReleaseToZeroDeviatorEndsWhenThePlatenLetsGo) {
   const CrystalResult r = experiment.run();
   ASSERT_EQ(r.segments.size(), 3u);
   const CrystalRow& released = r.curve[r.segments[1].last_row];
-  EXPECT_LT(released.deviator, 0.02 * kP0);
+  // Ended by the top platen letting go (its stress, which counts the end grains' fixed p0, back to p0; the bottom
+  // one, a transit behind, still carried 0.04 p0 when it did) or by the deviator reaching 0.
+  EXPECT_TRUE(released.deviator <= 0 || released.stress_top - kP0 < 0.01 * kP0)
+      << released.deviator << " Pa, top " << released.stress_top << " Pa";
+  EXPECT_LT(released.deviator, 0.05 * kP0);
   EXPECT_LT(released.strain, 0.002);
-  EXPECT_NEAR(r.curve.back().strain, 0.0025, 1e-6);
+  EXPECT_GE(r.curve.back().strain, 0.0025);  // within one step's travel, as above
+  EXPECT_LE(r.curve.back().strain, 0.0025 + r.strain_rate * experiment.world().settings().time_step);
   EXPECT_GT(r.curve.back().deviator, 2 * kP0);
 }
 
