@@ -176,11 +176,16 @@ TEST(LatticeAxis, PrestrainCarriesTheConfiningPressure) {
     p.lattice = lattice;
     p.grain.shape = grain_shape(lattice);
     const double eps0 = hydrostatic_prestrain(p);
-    if (lattice == LatticeType::sc) EXPECT_DOUBLE_EQ(eps0, 30e3 / e);
-    if (lattice == LatticeType::fcc) EXPECT_DOUBLE_EQ(eps0, std::sqrt(2.0) * 30e3 / e);
-    if (lattice == LatticeType::hcp) EXPECT_NEAR(eps0 * e / 30e3, std::sqrt(2.0), 1e-12) << eps0 * e / 30e3;
-    // BCC: between the cube's and FCC's factor; with uniform sphere density it would be 6 V / sum A l^2 = 1.11.
-    if (lattice == LatticeType::bcc) EXPECT_TRUE(eps0 > 0.8 * 30e3 / e && eps0 < 1.4 * 30e3 / e) << eps0 * e / 30e3;
+    if (lattice == LatticeType::sc) {
+      EXPECT_DOUBLE_EQ(eps0, 30e3 / e);
+    } else if (lattice == LatticeType::fcc) {
+      EXPECT_DOUBLE_EQ(eps0, std::sqrt(2.0) * 30e3 / e);
+    } else if (lattice == LatticeType::hcp) {
+      EXPECT_NEAR(eps0 * e / 30e3, std::sqrt(2.0), 1e-12) << eps0 * e / 30e3;
+    } else {
+      // BCC: between the cube's and FCC's factor; with uniform sphere density it would be 6 V / sum A l^2 = 1.11.
+      EXPECT_TRUE(eps0 > 0.8 * 30e3 / e && eps0 < 1.4 * 30e3 / e) << eps0 * e / 30e3;
+    }
   }
   // The general formula gives FCC's sqrt2 too (computed, not the closed form).
   const GrainTemplate rd(GrainGeometry{Shape::rhombic_dodecahedron, kA, 4, 0.75});
