@@ -22,9 +22,14 @@ constexpr TablePoint kTable[] = {
     // shear_cubes (80 cubes of 56 spheres, 0.27 ms/step: a small crystal's per-step overhead), 2026-12-04 on a
     // VM whose probe read 0.57 of the table machine: 1.67e7 measured, 1.67e7 / 0.57 here
     {4480, 80, 2.93e7},
-    {23760, 216, 9.15e7},   // crystal_quick (8.54e7, 9.81e7)
-    {95040, 864, 1.07e8},   // the reference crystal at N_e = 4 (confinement_*_ne4, imperfections_ne4: 0.96-1.15e8)
-    {260928, 864, 2.30e8},  // fig7a_ne6
+    // crystal_quick (8.54e7, 9.81e7; 9.16e7 on 2026-12-06, after the serial integrator and the guided chunks)
+    {23760, 216, 9.15e7},
+    // The reference crystal at N_e = 4 and fig7a_ne6, 2026-12-06 at the defaults of that day, on a VM whose probe
+    // read 0.79 of the table machine (median of 10 daemon starts, 0.77-0.82): confinement_membrane_ne4 1.44e8,
+    // imperfections_ne4 1.41e8, fig7a_ne6 2.73e8 there. Before the serial integrator and the guided chunks
+    // 1.07e8 (0.96-1.15e8) and 2.30e8.
+    {95040, 864, 1.42e8},
+    {260928, 864, 2.73e8},
     // crystal_ref_p60 at its defaults (1.5 p0/E, 0.3 t0, quarter-step dashpots): 115,624 steps in 267.7 s, 2026-12-06,
     // on a VM whose probe read 0.74 of the table machine (median of 10 daemon starts, 0.70-0.77; 3.64e8 there). Before
     // the contact loop's guided chunks and the serial integrator, 3.73e8 (p0/E: 169,854 steps in 456.6 s).
