@@ -1,6 +1,8 @@
 #include "engine/dynamics/integrator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace granulab {
 
@@ -55,18 +57,31 @@ Vec3 local_damping_force(const Vec3& f, const Vec3& u, double lambda) {
 }  // namespace
 
 double kick(Bodies& b, double h, const LocalDamping& damping) {
-  const long n = long(b.size());
-  double taken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : taken) if (n > kParallelBodies)
-  for (long k = 0; k < n; ++k) {
-    if (b.motion[k] != Motion::dynamic) continue;
-    const Vec3 v0 = b.velocity[k];
-    const Vec3 fd = local_damping_force(b.force[k], v0, damping.translational);
-    b.velocity[k] += (b.force[k] + fd) / b.mass[k] * h;
-    const Vec3 td = local_damping_force(b.torque[k], b.angular_velocity[k], damping.rotational);
-    b.angular_momentum[k] += (b.torque[k] + td) * h;
-    taken -= fd.dot(v0 + b.velocity[k]) / 2 * h + td.dot(b.angular_velocity[k]) * h;
+  // The energy the damping took, summed in fixed blocks of kParallelBodies bodies and then block by block, so that
+  // the sum is the same whatever the threads (an OpenMP reduction adds the threads' partial sums in an order of its
+  // own). Up to kParallelBodies bodies this is the plain running sum.
+  const long n = long(b.size()), blocks = (n + kParallelBodies - 1) / kParallelBodies;
+  // The calling thread's buffer, kept between steps (no allocation once it has grown); the threads of the loop
+  // below share it through this reference (each of them has a thread_local of its own).
+  thread_local std::vector<double> buffer;
+  std::vector<double>& taken_in = buffer;
+  taken_in.assign(std::size_t(blocks), 0.0);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+  for (long block = 0; block < blocks; ++block) {
+    double taken = 0;
+    for (long k = block * kParallelBodies; k < std::min(n, (block + 1) * kParallelBodies); ++k) {
+      if (b.motion[k] != Motion::dynamic) continue;
+      const Vec3 v0 = b.velocity[k];
+      const Vec3 fd = local_damping_force(b.force[k], v0, damping.translational);
+      b.velocity[k] += (b.force[k] + fd) / b.mass[k] * h;
+      const Vec3 td = local_damping_force(b.torque[k], b.angular_velocity[k], damping.rotational);
+      b.angular_momentum[k] += (b.torque[k] + td) * h;
+      taken -= fd.dot(v0 + b.velocity[k]) / 2 * h + td.dot(b.angular_velocity[k]) * h;
+    }
+    taken_in[std::size_t(block)] = taken;
   }
+  double taken = 0;
+  for (double t : taken_in) taken += t;
   return taken;
 }
 

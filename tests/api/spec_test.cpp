@@ -75,7 +75,7 @@ TEST(SpecDefaults, NullValuesMeanTheDefault) {
 
 // A NUL byte ends nlohmann's input: a document followed by one and garbage must not pass.
 TEST(SpecErrors, NulBytesAreInvalidJsonWhereverTheyAre) {
-  for (const std::string text :
+  for (const std::string& text :
        {std::string("{}\0", 3), std::string("{}\0garbage", 10), std::string("{\"label\": \"a\0b\"}", 15)}) {
     try {
       parse_spec_text(text);
@@ -675,7 +675,9 @@ TEST(Results, SummaryJsonZeroWallTimeGivesZeroRate) {
   EXPECT_EQ(w.document().at("sphere_steps_per_second").get<double>(), 0.0);
   // No inf or NaN anywhere (nlohmann would write them as null, silently).
   std::function<void(const nlohmann::json&)> finite = [&](const nlohmann::json& j) {
-    if (j.is_number_float()) EXPECT_TRUE(std::isfinite(j.get<double>())) << j;
+    if (j.is_number_float()) {
+      EXPECT_TRUE(std::isfinite(j.get<double>())) << j;
+    }
     if (j.is_structured())
       for (const auto& v : j) finite(v);
   };

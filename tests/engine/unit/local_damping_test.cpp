@@ -4,8 +4,10 @@
 //    (1 + lambda) A'^2 = (1 - lambda) A^2: each half cycle keeps sqrt((1 - lambda) / (1 + lambda)) of the amplitude,
 //    whatever w (0.8165 at lambda = 0.2). The energy the damping reports is the spring-mass energy lost;
 //  - steady motion under no force, and a body at rest, lose nothing: the damping acts on forces, not velocities;
-//  - the same on a torque: a free rotor spun up by a constant torque gains (1 - lambda) of it.
+//  - the same on a torque: a free rotor spun up by a constant torque gains (1 - lambda) of it;
+//  - above the size where its loop runs in parallel, the energy it reports has the same bits on 1 and 2 threads.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 
@@ -80,6 +82,31 @@ TEST(LocalDamping, ATorqueSpinsAFreeRotorUpAtOneMinusLambdaOfIt) {
   // The damping torque lambda tau against omega(t) = (1 - lambda) tau t / I: lambda (1 - lambda) tau^2 T^2 / (2 I).
   const double t = 10000 * dt, work = lambda * (1 - lambda) * tau * tau * t * t / (2 * 2.0);
   EXPECT_NEAR(taken, work, 1e-3 * work);
+}
+
+// 20,000 bodies (above integrator.cpp's 4,096, where the loop runs in parallel) with forces, torques and velocities of
+// mixed signs and magnitudes spread over six decades, so that summing the energies in another order changes the last
+// bits: an OpenMP reduction did (the threads' partial sums added in an order of its own).
+TEST(LocalDamping, TheEnergyTakenHasTheSameBitsOnOneAndTwoThreads) {
+  const auto taken = [](int threads) {
+    Bodies b;
+    for (int k = 0; k < 20000; ++k) {
+      const double s = std::pow(10.0, (k * 7919) % 600 / 100.0);  // 1 to 1e6
+      b.add(Vec3(k, 0, 0), Quat::Identity(), 1.0 + k % 13, Vec3(1, 2, 3), Motion::dynamic);
+      b.velocity[k] = Vec3(std::sin(k), std::cos(3.0 * k), std::sin(7.0 * k)) * s;
+      b.angular_momentum[k] = Vec3(std::cos(k), std::sin(5.0 * k), std::cos(2.0 * k));
+      b.force[k] = Vec3(std::cos(11.0 * k), std::sin(13.0 * k), std::cos(17.0 * k)) * s;
+      b.torque[k] = Vec3(std::sin(19.0 * k), std::cos(23.0 * k), std::sin(29.0 * k));
+    }
+    b.angular_velocity = b.angular_momentum;  // any rates: only the signs matter to the damping
+    omp_set_num_threads(threads);
+    const double e = kick(b, 1e-4, LocalDamping{0.2, 0.3});
+    omp_set_num_threads(omp_get_num_procs());
+    return e;
+  };
+  const double one = taken(1), two = taken(2);
+  EXPECT_GT(one, 0);
+  EXPECT_EQ(one, two) << "difference " << one - two;
 }
 
 }  // namespace

@@ -48,7 +48,9 @@ TEST(LoadingProgram, UnloadsToTheDeviatorLeavesAResidualStrainAndReloads) {
   // Each segment's rows carry its index, and continue from the previous segment's last row.
   for (std::size_t k = 0; k < r.segments.size(); ++k) {
     const SegmentRecord& s = r.segments[k];
-    if (k > 0) EXPECT_EQ(s.first_row, r.segments[k - 1].last_row);
+    if (k > 0) {
+      EXPECT_EQ(s.first_row, r.segments[k - 1].last_row);
+    }
     for (std::size_t i = s.first_row + 1; i <= s.last_row; ++i) EXPECT_EQ(r.curve[i].segment, k) << "row " << i;
   }
   EXPECT_EQ(r.segments.back().last_row, r.curve.size() - 1);
