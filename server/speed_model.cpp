@@ -25,9 +25,9 @@ constexpr TablePoint kTable[] = {
     // crystal_quick (8.54e7, 9.81e7; 9.16e7 on 2026-12-06, after the serial integrator and the guided chunks)
     {23760, 216, 9.15e7},
     // The reference crystal at N_e = 4 and fig7a_ne6, 2026-12-06 at the defaults of that day, on a VM whose probe
-    // read 0.79 of the table machine (median of 10 daemon starts, 0.77-0.82): confinement_membrane_ne4 1.44e8,
-    // imperfections_ne4 1.41e8, fig7a_ne6 2.73e8 there. Before the serial integrator and the guided chunks
-    // 1.07e8 (0.96-1.15e8) and 2.30e8.
+    // read 0.79 of the table machine (median of 10 daemon starts, 0.77-0.82): confinement_membrane_ne4 1.14e8,
+    // imperfections_ne4 1.11e8, fig7a_ne6 2.16e8 there, / 0.79 here. Before the serial integrator and the guided
+    // chunks 1.07e8 (0.96-1.15e8) and 2.30e8.
     {95040, 864, 1.42e8},
     {260928, 864, 2.73e8},
     // crystal_ref_p60 at its defaults (1.5 p0/E, 0.3 t0, quarter-step dashpots): 115,624 steps in 267.7 s, 2026-12-06,

@@ -194,9 +194,11 @@ void CrystalCompression::drive_platen(const Run& run, const LoadSegment& segment
   const int direction = run.r.segments.back().direction;
   StageTimer c(world.stage_times().control);
   const double t = (world.steps() - run.at.segment_first) * world.settings().time_step;
-  const double remaining = segment.kind == LoadSegment::Kind::to_strain
-                               ? std::abs(segment.value - strain_now()) * ref_length_ / run.speed
-                               : release_remaining(run, segment);
+  double remaining = run.ramp_time;  // a hold: the platen stands still anyway
+  if (segment.kind == LoadSegment::Kind::to_strain)
+    remaining = std::abs(segment.value - strain_now()) * ref_length_ / run.speed;
+  else if (segment.kind == LoadSegment::Kind::to_deviator)
+    remaining = release_remaining(run, segment);
   // A release slows down even as the last segment: where it ends is a cycle's residual strain.
   const bool slow_down =
       segment.kind == LoadSegment::Kind::to_deviator || (!last && segment.kind != LoadSegment::Kind::hold);
@@ -291,8 +293,8 @@ CrystalResult CrystalCompression::run(ResultSink& sink, const CheckpointSource* 
   run.speed = params_.rate_number * wave_speed;  // wall approach speed, R = L eps_dot / c
   if (!at.compressing) confine_and_begin(run);
   // The platen accelerates smoothly over ten wave transits of the sample: a sudden start would send a
-  // stress wave of amplitude E R (1.5 p0 at the default R = 1.5 p0 / E) through it. Between segments it also
-  // slows down (platen_speed_fraction).
+  // stress wave of amplitude E R (1.5 p0 at the default R = 1.5 p0 / E) through it. Between segments, and
+  // at the end of a release to a deviator, it also slows down (platen_speed_fraction).
   run.ramp_time = 10 * ref_length_ / wave_speed;
   while (at.segment < run.schedule.program.size()) run_segment(run);
   sink.progress(1.0);

@@ -12,7 +12,7 @@
 namespace granulab {
 
 struct QuasiStaticQuality {
-  double rate_over_quasi_static = 0;  ///< R / (p0 / E): 1.5 at the default rate (1 for a program that releases the platen) (-)
+  double rate_over_quasi_static = 0;  ///< R / (p0 / E): 1.5 at the default rate (-)
   /// The calibration's expected bias of the curve at that rate (first yield and strain-window means,
   /// the largest, relative to a converged rate) (-).
   double expected_bias = 0;

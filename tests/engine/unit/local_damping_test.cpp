@@ -99,9 +99,15 @@ TEST(LocalDamping, TheEnergyTakenHasTheSameBitsOnOneAndTwoThreads) {
       b.torque[k] = Vec3(std::sin(19.0 * k), std::cos(23.0 * k), std::sin(29.0 * k));
     }
     b.angular_velocity = b.angular_momentum;  // any rates: only the signs matter to the damping
+    const int before = omp_get_max_threads();
     omp_set_num_threads(threads);
+    int ran = 0;
+#pragma omp parallel
+#pragma omp single
+    ran = omp_get_num_threads();
+    EXPECT_EQ(ran, threads) << "the OpenMP runtime did not give the threads asked for";
     const double e = kick(b, 1e-4, LocalDamping{0.2, 0.3});
-    omp_set_num_threads(omp_get_num_procs());
+    omp_set_num_threads(before);
     return e;
   };
   const double one = taken(1), two = taken(2);
