@@ -58,6 +58,10 @@ double hold_steps(const std::vector<LoadSegment>& program) {
   return steps;
 }
 
+bool slows_down_at_end(const LoadSegment& segment, bool last) {
+  return segment.kind == LoadSegment::Kind::to_deviator || (segment.kind == LoadSegment::Kind::to_strain && !last);
+}
+
 double platen_speed_fraction(double t, double ramp, double remaining, bool slow_down) {
   double f = ramp > 0 ? std::min(1.0, t / ramp) : 1.0;
   if (slow_down && ramp > 0) f = std::min(f, std::max(0.05, remaining / ramp));

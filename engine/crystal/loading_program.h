@@ -39,11 +39,16 @@ double travel_bound(const std::vector<LoadSegment>& program);
 /// The time steps of the program's hold segments (-).
 double hold_steps(const std::vector<LoadSegment>& program);
 
+/// Whether a moving segment slows down before it ends: a to_strain followed by another, and a release to a
+/// deviator even as the last segment (where it ends is a cycle's residual strain). The one rule the run and
+/// the cost model share.
+bool slows_down_at_end(const LoadSegment& segment, bool last);
+
 /// The platen's speed as a fraction of the program's speed, `t` (s) into a segment that moves it:
 /// it accelerates linearly over `ramp` (s) from rest, since a sudden start sends a stress wave of
-/// amplitude E R through the sample; a segment followed by another (and a release to a deviator, even
-/// the last) also slows down over its last `ramp` of travel, `remaining` (s at full speed), to 5 % of
-/// the speed at which it stops, so that turning points are not struck either.
+/// amplitude E R through the sample; a segment that slows_down_at_end() also slows down over its last
+/// `ramp` of travel, `remaining` (s at full speed), to 5 % of the speed at which it stops, so that
+/// turning points are not struck either.
 double platen_speed_fraction(double t, double ramp, double remaining, bool slow_down);
 
 }  // namespace granulab

@@ -199,9 +199,7 @@ void CrystalCompression::drive_platen(const Run& run, const LoadSegment& segment
     remaining = std::abs(segment.value - strain_now()) * ref_length_ / run.speed;
   else if (segment.kind == LoadSegment::Kind::to_deviator)
     remaining = release_remaining(run, segment);
-  // A release slows down even as the last segment: where it ends is a cycle's residual strain.
-  const bool slow_down =
-      segment.kind == LoadSegment::Kind::to_deviator || (!last && segment.kind != LoadSegment::Kind::hold);
+  const bool slow_down = slows_down_at_end(segment, last);
   top.velocity = top.normal * (direction * run.speed *
                                (direction ? platen_speed_fraction(t, run.ramp_time, remaining, slow_down) : 0.0));
 }

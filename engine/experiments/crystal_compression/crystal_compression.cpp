@@ -166,8 +166,7 @@ std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, dou
       out.push_back({"hold " + std::to_string(s.steps) + " steps", double(s.steps)});
       continue;
     }
-    const bool slows_down =
-        s.kind == LoadSegment::Kind::to_deviator || (s.kind == LoadSegment::Kind::to_strain && k + 1 < program.size());
+    const bool slows_down = slows_down_at_end(s, k + 1 == program.size());
     const double seconds = travel[k] * length / speed + ramp * (0.5 + (slows_down ? 3.0 : 0.0));
     out.push_back({s.kind == LoadSegment::Kind::to_strain ? "to_strain " + percent(s.value)
                                                           : "to_deviator " + std::to_string(int(s.value)) + " Pa",
