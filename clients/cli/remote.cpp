@@ -214,11 +214,15 @@ int run_sweep(httplib::Client& http, const Args& a) {
   const std::string experiment =  // every point of a sweep is of the base spec's experiment
       ids.empty() ? ""
                   : json::parse(call(http, a.server, "GET", "/v1/jobs/" + ids[0])).value("experiment", std::string());
+  // Each path once: where a value lies on the curve may be another key value (a strength at a strain that is
+  // itself a key value, the strength again as its y), and a table's columns are unique.
   std::vector<std::string> paths;
   if (known.contains(experiment))
     for (const json& v : known[experiment].value("values", json::array()))
       for (const char* k : {"key", "at_x", "at_y"})
-        if (v.contains(k) && v[k].is_string()) paths.push_back(v[k].get<std::string>());
+        if (v.contains(k) && v[k].is_string() &&
+            std::find(paths.begin(), paths.end(), v[k].get<std::string>()) == paths.end())
+          paths.push_back(v[k].get<std::string>());
   std::string csv = "id";
   for (const auto& [key, values] : vary.items()) csv += "," + key;
   csv += ",status";

@@ -8,7 +8,9 @@ on loopback with a real SQLite file and tokens:
 - `submit -` reads the spec from standard input;
 - `results` of an unknown job writes nothing, not even its folder;
 - `wait` into a log (not a terminal) writes a line as each job's progress passes another tenth, each line
-  there as soon as it is written.
+  there as soon as it is written;
+- `sweep` writes sweep.csv with each column once, also where a key value's place on the curve is another key
+  value (issue 51).
 
 Run from the repository root:  /usr/bin/python3 tests/clients/remote_cli_test.py
 Standard library only; the binaries come from $GRANULABD (set by CTest) or build/.
@@ -36,6 +38,11 @@ TINY = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 2}, "loading
 # progress (half of it, 4 s, printed two running lines).
 SLOWER = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loading": {"rate_number": 1e-6},
           "output": {"curve_points": 20}, "label": "slower"}
+# A crystal pulled apart (about a second): its headline's tensile strength lies at the failure strain, itself a key
+# value, and its y is the strength again.
+TENSION = {"experiment": "crystal_tension", "grain": {"edge_spheres": 2},
+           "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 5, "layers_y": 1},
+           "loading": {"rate_number": 0.1, "max_strain": 0.001}, "output": {"curve_points": 4}, "label": "tension"}
 
 
 def free_port():
@@ -146,6 +153,25 @@ class RemoteCliTest(unittest.TestCase):
         self.assertTrue(seen_running, lines)
         running = [l for l in lines if " running " in l]
         self.assertGreaterEqual(len(running), 3, lines)  # several tenths of progress, not one line per status
+
+    def test_sweep_csv_names_each_column_once(self):
+        path = os.path.join(self.dir, "tension.json")
+        with open(path, "w") as f:
+            json.dump(TENSION, f)
+        out = os.path.join(self.dir, "tension-sweep")
+        made = self.cli("sweep", path, "--vary", "loading.max_strain=0.001,0.002", "--out", out)
+        self.assertEqual(made.returncode, 0, made.stderr)
+        with open(os.path.join(out, "sweep.csv")) as f:
+            rows = [line.split(",") for line in f.read().splitlines()]
+        header = rows[0]
+        self.assertEqual(len(header), len(set(header)), header)
+        self.assertEqual(header[:3], ["id", "loading.max_strain", "status"])
+        self.assertIn("tensile_strength", header)
+        self.assertIn("failure_strain", header)
+        self.assertEqual(len(rows), 3)
+        for row in rows[1:]:
+            self.assertEqual(len(row), len(header), row)
+            self.assertEqual(row[2], "succeeded", row)
 
 
 if __name__ == "__main__":
