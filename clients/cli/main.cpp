@@ -51,6 +51,8 @@ const char* kUsage =
     "submit --dry-run: validates and prints the cost (spheres, steps, memory, expected time on that server).\n"
     "sweep: submits a server sweep (every combination of the lists, or paired with --zip), shows a live line per\n"
     "job, then writes DIR/sweep.csv (a row per job: values, status, its experiment's key values) and DIR/<id>/ per job.\n"
+    "--vary's values are JSON or plain text; commas inside [ ], { } and \"...\" belong to the value, so a list is one\n"
+    "value: --vary 'loading.axis=[1,1,0],[1,1,1]' is two jobs.\n"
     "wait: a live line per job (progress, ETA, latest strain and stress); exit 0 when all succeeded; Ctrl-C stops\n"
     "waiting, not the jobs.\n"
     "With --checkpoint-dir, the run's state is saved in CDIR every S seconds (default 60, 0 = never); --resume "

@@ -21,6 +21,7 @@
 #include "api/int_option.h"
 #include "clients/cli/estimate.h"
 #include "clients/cli/job_watch.h"
+#include "clients/cli/vary_option.h"
 
 // After the project headers: <resolv.h>, pulled in by httplib, defines a macro `_res` that breaks Eigen.
 #include <httplib.h>
@@ -35,7 +36,7 @@ using nlohmann::json;
 struct Args {
   std::string command, server, target, out, status, owner, label, ca_file;
   std::vector<std::string> targets;  // every positional argument (wait takes several ids)
-  std::vector<std::string> vary;     // sweep: KEY=V1,V2,...
+  std::vector<std::string> vary;     // sweep: KEY=V1,V2,... (vary_option.h)
   bool reuse = false, priority_given = false, json_out = false, dry_run = false, zip = false;
   int priority = 0, limit = 20;
 };
@@ -136,22 +137,14 @@ std::string human_status(const json& j) {
   return out;
 }
 
-// --vary KEY=V1,V2,...: each value as JSON when it is JSON (10e3, true, "x"), as text otherwise.
-json parse_vary(const std::vector<std::string>& options) {
-  json vary = json::object();
-  for (const std::string& option : options) {
-    const auto eq = option.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == option.size())
-      throw std::invalid_argument("--vary needs KEY=V1,V2,..., got '" + option + "'");
-    json values = json::array();
-    std::stringstream list(option.substr(eq + 1));
-    for (std::string v; std::getline(list, v, ',');) {
-      json parsed = json::parse(v, nullptr, false);
-      values.push_back(parsed.is_discarded() ? json(v) : parsed);
-    }
-    vary[option.substr(0, eq)] = values;
-  }
-  return vary;
+// A sweep.csv cell: a varied value as its JSON text (a string as itself), in quotes when it holds a comma or a
+// quote (a list such as [1,1,0]), as RFC 4180 has it.
+std::string csv_cell(const json& value) {
+  const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
 }
 
 std::string human_cost(const json& c) {
@@ -187,11 +180,11 @@ void save(const fs::path& path, const std::string& text) {
 // granulab sweep SPEC --vary KEY=V1,V2 [--vary ...] [--zip] [--label L] --out DIR: one server sweep, watched
 // live; then DIR/sweep.csv (a row per job) and each job's curve and summary under DIR/<id>/.
 int run_sweep(httplib::Client& http, const Args& a) {
-  if (a.vary.empty()) throw std::invalid_argument("'sweep' needs at least one --vary KEY=V1,V2,...");
+  if (a.vary.empty()) throw std::invalid_argument(std::string("'sweep' needs at least one --vary\n") + vary_syntax());
   if (a.out.empty()) throw std::invalid_argument("'sweep' needs --out DIR");
+  const json vary = parse_vary(a.vary, a.zip);
   json spec = json::parse(read_spec(a.target, "sweep"), nullptr, false);
   if (spec.is_discarded()) throw std::invalid_argument("spec file '" + a.target + "' is not JSON");
-  const json vary = parse_vary(a.vary);
   // The output folder first: an unwritable one is an error before any job runs, not after all have.
   const fs::path out(a.out);
   fs::create_directories(out);
@@ -231,7 +224,7 @@ int run_sweep(httplib::Client& http, const Args& a) {
   for (const json& j : table["jobs"]) {
     csv += std::to_string(j["id"].get<long long>());
     for (const auto& [key, values] : vary.items())
-      csv += "," + (j["values"].contains(key) ? j["values"][key].dump() : "");
+      csv += "," + (j["values"].contains(key) ? csv_cell(j["values"][key]) : "");
     csv += "," + j["status"].get<std::string>();
     for (const std::string& p : paths) {
       char text[40] = "";

@@ -266,7 +266,12 @@ class Client:
                                                  "owner": owner}).get("jobs", [])
 
     def submit_sweep(self, spec, vary, mode="product", label="", priority=None):
-        """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns (sweep id, [job ids])."""
+        """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns (sweep id, [job ids]).
+
+        Each value is the field's value as the spec has it, so a field that is itself a list takes a list per
+        point: {"loading.axis": [[1, 1, 0], [1, 1, 1]]} is two jobs, one along each axis (likewise
+        "output.snapshot_strains": [[0, 0.01], [0, 0.02]]). mode "zip" pairs the lists (they must be as long as
+        each other) instead of running every combination."""
         body = json.dumps({"spec": spec, "vary": vary, "mode": mode, "label": label})
         r = self._request("POST", "/v1/sweeps", {"priority": priority}, body=body)
         return r["id"], r["jobs"]

@@ -357,7 +357,7 @@ async function submitView() {
     el("div", { class: "controls" }, el("label", {}, "experiment ", experimentSelect), el("label", {}, "start from ", exampleSelect)),
     form,
     el("h2", {}, "Sweep (optional)"),
-    el("p", { class: "hint" }, "One line per varied field: dotted.key=value1,value2,… Every combination runs, or the lists are paired with ‘zip’."),
+    el("p", { class: "hint" }, "One line per varied field, as granulab sweep --vary takes it: dotted.key=value1,value2,… with each value JSON (10e3, \"text\", a list [1,1,0]) or plain text, commas inside [ ] { } \"…\" belonging to the value, e.g. loading.axis=[1,1,0],[1,1,1]. Every combination runs, or the lists are paired with ‘zip’."),
     vary, el("div", {}, el("label", {}, zip, " zip the lists")),
     cost, el("p", {}, el("button", { id: "submit", type: "button", onclick: () => submit() }, "Submit")), message);
 
@@ -444,9 +444,17 @@ async function submitView() {
     const varied = {};
     for (const line of vary.value.split("\n").map((l) => l.trim()).filter(Boolean)) {
       const eq = line.indexOf("=");
-      if (eq < 0) return { error: ["", "sweep line '" + line + "' has no '='"] };
-      varied[line.slice(0, eq).trim()] = line.slice(eq + 1).split(",").map((v) => { const n = Number(v); return v.trim() !== "" && !Number.isNaN(n) ? n : v.trim(); });
+      if (eq < 0) return { error: ["", "sweep line '" + line + "' has no '=' (e.g. loading.axis=[1,1,0],[1,1,1])"] };
+      const key = line.slice(0, eq).trim();
+      if (!/^\w+(\.\w+)*$/.test(key)) return { error: ["", "sweep line '" + line + "': '" + key + "' is not a dotted field"] };
+      if (Object.prototype.hasOwnProperty.call(varied, key)) return { error: ["", "sweep line '" + line + "': " + key + " is varied twice"] };
+      const values = sweepValues(line.slice(eq + 1));
+      if (typeof values === "string") return { error: ["", "sweep line '" + line + "': " + values + " (e.g. loading.axis=[1,1,0],[1,1,1])"] };
+      varied[key] = values;
     }
+    const lengths = Object.entries(varied).map(([k, v]) => k + " has " + v.length);
+    if (zip.checked && new Set(Object.values(varied).map((v) => v.length)).size > 1)
+      return { error: ["", "zip pairs the lists value by value, so they must be as long as each other: " + lengths.join(", ")] };
     return { spec, varied, sweep: Object.keys(varied).length > 0 };
   }
 
@@ -516,6 +524,45 @@ function setDotted(spec, dotted, value) {
   let at = spec;
   for (const k of path.slice(0, -1)) at = at[k] = at[k] && typeof at[k] === "object" ? at[k] : {};
   at[path[path.length - 1]] = value;
+}
+
+// A sweep line's values, as `granulab sweep --vary` reads them (clients/cli/vary_option.h): split at the commas
+// outside [ ], { } and "...", each JSON or else plain text; or what is wrong, as a string.
+function sweepValues(text) {
+  const items = [], closers = [];
+  let quoted = false, escaped = false, start = 0;
+  for (let i = 0; i < text.length; ++i) {
+    const c = text[i];
+    if (quoted) {
+      if (escaped) escaped = false;
+      else if (c === "\\") escaped = true;
+      else if (c === '"') quoted = false;
+    } else if (c === '"') quoted = true;
+    else if (c === "[" || c === "{") closers.push(c === "[" ? "]" : "}");
+    else if (c === "]" || c === "}") {
+      const due = closers.pop();
+      if (due !== c) return "a '" + c + "' " + (due ? "where a '" + due + "' was due" : "that closes nothing");
+    } else if (c === "," && !closers.length) {
+      items.push(text.slice(start, i));
+      start = i + 1;
+    }
+  }
+  if (quoted) return "a '\"' is never closed";
+  if (closers.length) return "a '" + (closers.pop() === "]" ? "[" : "{") + "' is never closed";
+  items.push(text.slice(start));
+  const values = [];
+  for (const [n, raw] of items.entries()) {
+    const item = raw.trim(), which = "value " + (n + 1) + " of " + items.length;
+    if (!item) return which + " is empty";
+    let parsed;
+    try { parsed = JSON.parse(item); } catch (e) { parsed = undefined; }
+    if ("[{\"".includes(item[0])) {
+      if (parsed === undefined) return which + ", " + item + ", is not JSON";
+      values.push(parsed);
+    } else if (/[\[\]{}"]/.test(item)) return which + ", " + item + ", is text with brackets or quotes in it";
+    else values.push(parsed === undefined ? item : parsed);
+  }
+  return values;
 }
 
 // The specs of a sweep: every combination of the lists (or the lists paired, zip), as the server makes them.

@@ -10,11 +10,16 @@ on loopback with a real SQLite file and tokens:
 - `wait` into a log (not a terminal) writes a line as each job's progress passes another tenth, each line
   there as soon as it is written;
 - `sweep` writes sweep.csv with each column once, also where a key value's place on the curve is another key
-  value (issue 51).
+  value (issue 51);
+- `sweep --vary 'loading.axis=[0,0,1],[1,0,0]'` varies an array field: two jobs, each stored with its axis, and
+  sweep.csv has each axis in one cell; the Python client's dict of lists does the same; a malformed --vary exits 2
+  with what is wrong and the syntax, before anything is sent, and a value the spec refuses exits 1 naming the field
+  (issue 51, part 4).
 
 Run from the repository root:  /usr/bin/python3 tests/clients/remote_cli_test.py
 Standard library only; the binaries come from $GRANULABD (set by CTest) or build/.
 """
+import csv
 import json
 import os
 import shutil
@@ -28,7 +33,9 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
 import skip_aware  # noqa: E402
+from granulab_client import Client  # noqa: E402
 
 DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 CLI = os.path.join(os.path.dirname(DAEMON), "granulab")
@@ -43,6 +50,12 @@ SLOWER = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 4}, "loadi
 TENSION = {"experiment": "crystal_tension", "grain": {"edge_spheres": 2},
            "crystal": {"lattice": "sc", "grains_x": 2, "rows_z": 5, "layers_y": 1},
            "loading": {"rate_number": 0.1, "max_strain": 0.001}, "output": {"curve_points": 4}, "label": "tension"}
+
+# A simple cubic crystal of 12 cubes of 8 spheres to 0.05 % strain: about 0.1 s a job, along any cube axis.
+SC = {"experiment": "crystal_compression", "label": "sc axes", "grain": {"edge_spheres": 2},
+      "crystal": {"lattice": "sc", "grains_x": 2, "layers_y": 2, "rows_z": 3},
+      "loading": {"confining_pressure": 30000, "max_strain": 0.0005, "rate_number": 1e-3},
+      "output": {"curve_points": 4, "snapshot_strains": []}}
 
 
 def free_port():
@@ -172,6 +185,54 @@ class RemoteCliTest(unittest.TestCase):
         for row in rows[1:]:
             self.assertEqual(len(row), len(header), row)
             self.assertEqual(row[2], "succeeded", row)
+
+    def test_sweep_varies_an_array_field(self):
+        path = os.path.join(self.dir, "sc.json")
+        with open(path, "w") as f:
+            json.dump(SC, f)
+        out = os.path.join(self.dir, "axis-sweep")
+        made = self.cli("sweep", path, "--vary", "loading.axis=[0,0,1],[1,0,0]", "--out", out)
+        self.assertEqual(made.returncode, 0, made.stderr)
+        with open(os.path.join(out, "sweep.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 2, rows)
+        axes = []
+        for row in rows:
+            self.assertEqual(row["status"], "succeeded", row)
+            job = json.loads(self.cli("status", row["id"], "--json").stdout)
+            self.assertEqual(job["status"], "succeeded")
+            self.assertEqual(job["spec"]["loading"]["axis"], json.loads(row["loading.axis"]))
+            self.assertEqual(job["sweep_values"], {"loading.axis": job["spec"]["loading"]["axis"]})
+            self.assertEqual(job["summary"]["spec"]["loading"]["axis"], job["spec"]["loading"]["axis"])
+            axes.append(job["spec"]["loading"]["axis"])
+        self.assertEqual(sorted(axes), [[0, 0, 1], [1, 0, 0]])
+
+        # The Python client's dict of lists: a list per point (checked as stored, then cancelled).
+        client = Client(self.server, token=self.token)
+        sweep, jobs = client.submit_sweep(SC, {"loading.axis": [[0, 1, 0], [1, 0, 0]]}, mode="zip")
+        client.cancel_sweep(sweep)
+        self.assertEqual([client.status(j)["spec"]["loading"]["axis"] for j in jobs], [[0, 1, 0], [1, 0, 0]])
+
+        # Malformed: exit 2, what is wrong and the syntax, nothing sent (no folder, no sweep).
+        before = len(client.sweeps())
+        for option, what in [("loading.axis=[1,1,0],[1,1,1", "a '[' is never closed"),
+                             ("loading.axis", "no '=' between the field and its values"),
+                             ("loading.axis=[1,1,0],,[1,1,1]", "value 2 of 3 is empty")]:
+            bad = os.path.join(self.dir, "bad-sweep")
+            made = self.cli("sweep", path, "--vary", option, "--out", bad)
+            self.assertEqual(made.returncode, 2, made.stderr)
+            self.assertIn("--vary '%s': %s" % (option, what), made.stderr)
+            self.assertIn("--vary 'loading.axis=[1,1,0],[1,1,1]'", made.stderr)
+            self.assertFalse(os.path.exists(bad))
+        made = self.cli("sweep", path, "--zip", "--vary", "loading.axis=[0,0,1],[1,0,0]", "--vary",
+                        "crystal.lattice=sc", "--out", bad)
+        self.assertEqual(made.returncode, 2, made.stderr)
+        self.assertIn("'crystal.lattice' has 1", made.stderr)
+        self.assertEqual(len(client.sweeps()), before)
+        # A value the spec refuses: the server's 400 names the field and the value.
+        made = self.cli("sweep", path, "--vary", "loading.axis=[0,0,1],[13,0,0]", "--out", bad)
+        self.assertEqual(made.returncode, 1, made.stderr)
+        self.assertIn("HTTP 400: 'vary.loading.axis' value [13,0,0]", made.stderr)
 
 
 if __name__ == "__main__":
