@@ -35,12 +35,21 @@ struct Range {
 
 std::string line_plot_svg(const LinePlot& plot) {
   const double H = plot.height;
-  std::size_t in_legend = 0, longest = 0;
-  for (const Series& s : plot.series) in_legend += !s.label.empty(), longest = std::max(longest, s.label.size());
-  for (const Marker& m : plot.markers) in_legend += 1, longest = std::max(longest, m.label.size() + 4);
-  if (!plot.events_label.empty()) in_legend += 1, longest = std::max(longest, plot.events_label.size());
-  // About 7 px per character of 12 px text, within limits.
-  const double legend_width = std::clamp(50.0 + 7.0 * double(longest), 120.0, 360.0);
+  // The legend, right of the plot: each entry's symbol, then its text from 44 px in. It is as wide as its widest
+  // text (text_width of 12 px text) and a margin, up to kLegendText px of text: a longer one (a sweep's label
+  // of several varied values) wraps onto further lines.
+  constexpr double kFont = 12, kLegendText = 320, kIndent = 44, kMargin = 12;
+  std::size_t in_legend = 0;
+  double widest = 0;
+  const auto measure = [&](const std::string& text) {
+    ++in_legend;
+    widest = std::max(widest, std::min(text_width(text, kFont), kLegendText));
+  };
+  for (const Series& s : plot.series)
+    if (!s.label.empty()) measure(s.label);
+  for (const Marker& m : plot.markers) measure(m.label);
+  if (!plot.events_label.empty()) measure(plot.events_label);
+  const double legend_width = std::clamp(kIndent + widest + kMargin, 120.0, kIndent + kLegendText + kMargin);
   const double left = 78, right = in_legend ? legend_width : 24, top = plot.note.empty() ? 40 : 56, bottom = 56;
   const double W = plot.width + (right > 190 ? right - 190 : 0);  // a long legend widens the picture
   const double pw = W - left - right, ph = H - top - bottom;
@@ -143,15 +152,26 @@ std::string line_plot_svg(const LinePlot& plot) {
   // Legend, right of the plot.
   if (in_legend) {
     double y = top + 8;
+    // An entry's text at its symbol's height, its further lines 15 px apart; the next entry 18 px below its last.
+    const auto legend_text = [&](const std::string& text) {
+      const std::vector<std::string> lines = wrap_text(text, kLegendText, kFont);
+      std::string out = "<text x=\"" + num(left + pw + kIndent) + "\" y=\"" + num(y + 4) + "\">";
+      if (lines.size() == 1) out += xml_escape(lines[0]);
+      else
+        for (std::size_t k = 0; k < lines.size(); ++k)
+          out += "<tspan x=\"" + num(left + pw + kIndent) + "\" dy=\"" + (k ? "15" : "0") + "\">" +
+                 xml_escape(lines[k]) + "</tspan>";
+      y += 18 + 15 * double(lines.size() - 1);
+      return out + "</text>\n";
+    };
     svg += "<g class=\"legend\">\n";
     for (std::size_t i = 0; i < plot.series.size(); ++i) {
       const Series& s = plot.series[i];
       if (s.label.empty()) continue;
       svg += "<line x1=\"" + num(left + pw + 12) + "\" y1=\"" + num(y) + "\" x2=\"" + num(left + pw + 38) + "\" y2=\"" +
              num(y) + "\" stroke=\"" + colours[i] + "\" stroke-width=\"2\"" +
-             (s.dashed ? " stroke-dasharray=\"7 5\"" : "") + "/><text x=\"" + num(left + pw + 44) + "\" y=\"" +
-             num(y + 4) + "\">" + xml_escape(s.label) + "</text>\n";
-      y += 18;
+             (s.dashed ? " stroke-dasharray=\"7 5\"" : "") + "/>";
+      svg += legend_text(s.label);  // after the symbol: it moves y on
     }
     for (std::size_t k = 0; k < plot.markers.size(); ++k) {
       const Marker& m = plot.markers[k];
@@ -160,15 +180,13 @@ std::string line_plot_svg(const LinePlot& plot) {
              "\" r=\"6\" fill=\"white\" stroke=\"#c00\" stroke-width=\"1.5\"/>"
              "<text x=\"" +
              num(cx) + "\" y=\"" + num(y + 3.5) + "\" text-anchor=\"middle\" font-size=\"9\" fill=\"#c00\">" +
-             std::to_string(k + 1) + "</text><text x=\"" + num(left + pw + 44) + "\" y=\"" + num(y + 4) + "\">" +
-             xml_escape(m.label) + "</text>\n";
-      y += 18;
+             std::to_string(k + 1) + "</text>";
+      svg += legend_text(m.label);
     }
     if (!plot.events_label.empty()) {
       svg += "<line x1=\"" + num(left + pw + 25) + "\" y1=\"" + num(y - 6) + "\" x2=\"" + num(left + pw + 25) +
-             "\" y2=\"" + num(y + 6) + "\" stroke=\"#7b3294\" stroke-width=\"1.2\"/><text x=\"" + num(left + pw + 44) +
-             "\" y=\"" + num(y + 4) + "\">" + xml_escape(plot.events_label) + "</text>\n";
-      y += 18;
+             "\" y2=\"" + num(y + 6) + "\" stroke=\"#7b3294\" stroke-width=\"1.2\"/>";
+      svg += legend_text(plot.events_label);
     }
     svg += "</g>\n";
   }

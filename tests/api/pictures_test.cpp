@@ -286,6 +286,74 @@ TEST(LinePlot, ThinsLongSeriesButKeepsTheLatestPointAndSkipsNaN) {
   EXPECT_NE(line_plot_svg(LinePlot{}).find("</svg>"), std::string::npos);  // nothing to draw is still a picture
 }
 
+// The width estimate is never narrower than the text as Chromium draws it in DejaVu Sans at 12 px (measured with
+// getComputedTextLength(): 183.3, 425.6, 209.7, 76.4 and 174.9 px).
+TEST(SvgText, TheWidthEstimateCoversTheDrawnText) {
+  const std::vector<std::pair<std::string, double>> drawn = {
+      {"friction = 0.1, max_slide = 0.2", 183.3},
+      {"confining_pressure = 30000, friction = 0.35, edge_spheres = 4 (failed)", 425.6},
+      {"ABCDEFGHIJKLMNOPQRSTUVWXYZ", 209.7},
+      {"0123456789", 76.4},
+      {"first yield 5.96 p0 at 0.512 %", 174.9}};
+  for (const auto& [text, px] : drawn) {
+    EXPECT_GE(text_width(text, 12), px - 0.5) << text;
+    EXPECT_LE(text_width(text, 12), 1.01 * px) << text;  // and not much wider: rounding up only
+  }
+  EXPECT_NEAR(text_width("p\xc3\xa9", 10), 6.4 + 10, 1e-12);  // beyond ASCII, a whole em each
+  // Wrapping breaks after spaces, each line within the width, and loses nothing but spaces at the breaks.
+  const std::string label = "confining_pressure = 30000, friction = 0.35, edge_spheres = 4 (failed)";
+  const std::vector<std::string> lines = wrap_text(label, 200, 12);
+  ASSERT_GE(lines.size(), 3u);
+  std::string joined;
+  for (const std::string& l : lines) {
+    EXPECT_LE(text_width(l, 12), 200) << l;
+    joined += (joined.empty() ? "" : " ") + l;
+  }
+  EXPECT_EQ(joined, label);
+  // A list of "key = value" pairs breaks between pairs where it can.
+  EXPECT_EQ(wrap_text("rate_number = 0.000123456, damping = 0.0512345, friction = 0.123456", 320, 12),
+            (std::vector<std::string>{"rate_number = 0.000123456,", "damping = 0.0512345, friction = 0.123456"}));
+  EXPECT_EQ(wrap_text("short", 200, 12), std::vector<std::string>{"short"});
+  EXPECT_EQ(wrap_text("", 200, 12), std::vector<std::string>{""});
+  const std::vector<std::string> cut = wrap_text(std::string(100, 'W'), 120, 12);  // one word, wider than a line
+  ASSERT_EQ(cut.size(), 1u);
+  EXPECT_LE(text_width(cut[0], 12), 120);
+  EXPECT_EQ(cut[0].substr(cut[0].size() - 3), "\u2026");
+}
+
+// Every line of the legend's text ends inside the picture, however long a sweep's labels are (issue 51: a 930 px
+// picture's legend began at 614 px and its labels ran off the right edge).
+TEST(LinePlot, TheLegendFitsInThePictureForLongSweepLabels) {
+  for (const std::size_t varied : {1, 3, 6}) {
+    std::vector<SweepCurve> jobs;
+    for (int j = 0; j < 4; ++j) {
+      SweepCurve c;
+      c.spec = {{"experiment", "two_cube_sliding"}};
+      c.curve = {{"columns", {"slide", "tangential_force"}}, {"slide", {0.0, 1e-4}}, {"tangential_force", {0.0, 1.0}}};
+      c.status = j == 3 ? "failed" : "succeeded";
+      for (std::size_t k = 0; k < varied; ++k)
+        c.values["section.a_rather_long_field_name_" + std::to_string(k)] = 123456.789 * (j + 1);
+      jobs.push_back(c);
+    }
+    const std::string svg = line_plot_svg(sweep_curves_plot("a sweep", jobs, 0));
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(svg, m, std::regex("<svg [^>]*width=\"([0-9.]+)\"")));
+    const double width = std::stod(m[1]);
+    const std::string legend = svg.substr(svg.find("<g class=\"legend\">"));
+    std::size_t lines = 0;
+    const std::regex text(R"re(<(?:text|tspan) x="([0-9.]+)"[^>]*>([^<]+)<)re");
+    for (auto it = std::sregex_iterator(legend.begin(), legend.end(), text); it != std::sregex_iterator(); ++it) {
+      const std::string shown = (*it)[2];
+      if (shown.size() <= 1) continue;  // a marker's number
+      ++lines;
+      EXPECT_LE(std::stod((*it)[1]) + text_width(shown, 12), width) << varied << " values: " << shown;
+    }
+    EXPECT_GE(lines, 4u) << svg;
+    EXPECT_LE(width, 760 + 200) << "the picture grows by the legend's width at most";
+    if (varied == 6) EXPECT_NE(legend.find("<tspan"), std::string::npos) << "six values wrap";
+  }
+}
+
 TEST(SnapshotFiles, JsonRoundTripAndTheDumpsRadiusIsHalfTheNeighbourDistance) {
   GrainSnapshot s = reference_crystal();
   s.strain = 0.01, s.step = 1234;

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The web page at / in a real browser (Debian's headless Chromium, driven over the DevTools protocol on a
 pipe): it lists submitted jobs with their status and keeps them live, shows a job's curve and snapshot
-sections, a sweep's overlaid curves and table, reports a bad field next to that field and submits a good
-spec, and asks for a token once on a server that needs one.
+sections, a sweep's overlaid curves and table (a long legend drawn inside the picture), reports a bad field
+next to that field and submits a good spec, and asks for a token once on a server that needs one.
 
 Standard library only. The daemon comes from $GRANULABD (set by CTest) or build/granulabd; Chromium from
 $CHROMIUM or /usr/bin/chromium (the test is skipped, loudly, when there is none).
@@ -263,6 +263,30 @@ class WebPageTest(unittest.TestCase):
         headers = self.browser.js("Array.from(document.querySelectorAll('#sweep-jobs th')).map(h => h.textContent)")
         self.assertIn("friction ratio T / P", headers)
         self.assertNotIn("first yield (p0)", headers)
+
+    def test_a_sweep_picture_keeps_long_labels_inside_it(self):
+        # Five varied values and a status make a label of about 110 characters (issue 51: such a legend ran off a
+        # 930 px picture). Cancelled at once: the picture of jobs without rows still has its legend.
+        vary = {"material.friction": [0.123456], "material.damping": [0.0512345], "loading.rate_number": [0.000123456],
+                "output.curve_points": [21], "grain.edge_spheres": [3]}
+        sweep = self.daemon.call("POST", "/v1/sweeps", {"spec": TWO_CUBE, "vary": vary, "mode": "zip"})
+        self.daemon.call("POST", f"/v1/sweeps/{sweep['id']}/cancel")
+        self.browser.open(f"{self.daemon.url}/v1/sweeps/{sweep['id']}/curves.svg")
+        # Where each line of the legend's text ends as Chromium draws it, and the picture's width.
+        drawn = self.browser.until("""(() => { const svg = document.documentElement;
+            const texts = Array.from(document.querySelectorAll('g.legend text'));
+            if (svg.tagName !== 'svg' || !texts.length) return null;
+            const ends = [];
+            for (const t of texts) {
+              const lines = t.querySelectorAll('tspan').length ? Array.from(t.querySelectorAll('tspan')) : [t];
+              for (const l of lines) { const b = l.getBBox(); ends.push(b.x + b.width); }
+            }
+            return {width: svg.width.baseVal.value, ends: ends,
+                    text: texts.map(t => t.textContent).join(' | ')}; })()""")
+        self.assertIn("edge_spheres = 3", drawn["text"])
+        self.assertGreater(len(drawn["ends"]), 1, drawn)  # wrapped
+        for end in drawn["ends"]:
+            self.assertLessEqual(end, drawn["width"], drawn)
 
     def test_the_form_names_a_bad_field_next_to_it_and_submits_a_good_spec(self):
         self.browser.open(self.daemon.url + "/#/submit")
