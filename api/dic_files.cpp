@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "api/legacy_vtk.h"
 #include "engine/analysis/snapshot_layers.h"
 
 namespace granulab::api {
@@ -48,23 +49,33 @@ std::string dic_csv(const DicMap& m) {
 
 std::string dic_vtk(const DicMap& m) {
   const std::size_t nodes = std::size_t(m.nx) * std::size_t(m.nz);
-  std::string out = "# vtk DataFile Version 3.0\ngranulab DIC-like map of the front face (reference coordinates, m)\n"
-                    "ASCII\nDATASET STRUCTURED_POINTS\n";
+  // No "nan": VTK's legacy reader stops at the first one, keeps the arrays read so far (the one it stopped in
+  // half read) and reports success. A node off the face has `measured` 0 and 0 in every field, as the title says.
+  const auto measured = [&](std::size_t n) { return std::isfinite(m.exx[n]); };
+  const auto value = [&](const std::vector<double>& field, std::size_t n) {
+    return measured(n) && std::isfinite(field[n]) ? number(field[n]) : std::string("0");
+  };
+  std::string out =
+      "# vtk DataFile Version 3.0\ngranulab DIC-like map of the front face (reference coordinates, m); "
+      "nodes off the face have measured 0 and 0 in every field\nASCII\nDATASET STRUCTURED_POINTS\n";
   out += "DIMENSIONS " + std::to_string(m.nx) + " 1 " + std::to_string(m.nz) + "\n";
   out += "ORIGIN " + number(m.x0) + " " + number(m.y) + " " + number(m.z0) + "\n";
   out += "SPACING " + number(m.step) + " " + number(m.step) + " " + number(m.step) + "\n";
   out += "POINT_DATA " + std::to_string(nodes) + "\n";
   // VTK's x runs fastest, then y (one node), then z: the map's own node order.
   out += "SCALARS measured int 1\nLOOKUP_TABLE default\n";
-  for (std::size_t n = 0; n < nodes; ++n) out += std::isnan(m.exx[n]) ? "0\n" : "1\n";
+  for (std::size_t n = 0; n < nodes; ++n) out += measured(n) ? "1\n" : "0\n";
+  out += "VECTORS displacement double\n";
+  for (std::size_t n = 0; n < nodes; ++n) out += value(m.ux, n) + " " + value(m.uy, n) + " " + value(m.uz, n) + "\n";
+  VtkFieldBlock strains;
   const std::pair<const char*, const std::vector<double>*> scalars[] = {
       {"exx", &m.exx}, {"ezz", &m.ezz}, {"exz", &m.exz}, {"gamma_max", &m.gamma_max}};
   for (const auto& [name, field] : scalars) {
-    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
-    for (std::size_t n = 0; n < nodes; ++n) out += number((*field)[n]) + "\n";
+    std::string text;
+    for (std::size_t n = 0; n < nodes; ++n) text += value(*field, n) + "\n";
+    strains.add(name, 1, nodes, std::move(text));
   }
-  out += "VECTORS displacement double\n";
-  for (std::size_t n = 0; n < nodes; ++n) out += number(m.ux[n]) + " " + number(m.uy[n]) + " " + number(m.uz[n]) + "\n";
+  strains.append_to(out, "strains");
   return out;
 }
 

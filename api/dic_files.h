@@ -15,9 +15,11 @@ double default_dic_step(const GrainSnapshot& s);
 /// std::invalid_argument naming `step` when it is not a positive number or gives too many nodes.
 DicMap snapshot_dic_map(const GrainSnapshot& s, std::optional<double> step, std::size_t max_nodes);
 /// Columns x, z (reference, m), ux, uy, uz (m), exx, ezz, exz, gamma_max (-); "nan" where the node is outside
-/// the face.
+/// the face (CSV readers take it as not a number: pandas, numpy, ParaView's CSV reader).
 std::string dic_csv(const DicMap& m);
-/// The same fields on the image's points (displacement as a vector), plus `measured` (1 inside the face, 0 not).
+/// The same fields on the image's points: `measured` (1 inside the face, 0 not: the active scalars), the vector
+/// `displacement`, and exx, ezz, exz, gamma_max in a FIELD block (api/legacy_vtk.h). A node outside the face has 0
+/// in every field (VTK's legacy reader cannot read "nan"), as the file's title says.
 std::string dic_vtk(const DicMap& m);
 
 }  // namespace granulab::api

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "api/legacy_vtk.h"
 #include "engine/analysis/snapshot_layers.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/geometry/polyhedron.h"
@@ -67,14 +68,19 @@ std::string snapshot_contacts_vtk(const GrainSnapshot& s) {
   out += "CELL_DATA " + std::to_string(m) + "\nVECTORS force double\n";
   for (const ContactRow& r : rows)
     out += number(r.force.x(), "%.6g") + " " + number(r.force.y(), "%.6g") + " " + number(r.force.z(), "%.6g") + "\n";
+  out += "SCALARS force_normal double 1\nLOOKUP_TABLE default\n";
+  for (const ContactRow& r : rows) out += number(r.normal, "%.6g") + "\n";
+  // The other arrays in a FIELD block, which every legacy reader reads (api/legacy_vtk.h).
+  VtkFieldBlock fields;
   const auto scalars = [&](const char* name, auto get) {
-    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
-    for (const ContactRow& r : rows) out += number(get(r), "%.6g") + "\n";
+    std::string text;
+    for (const ContactRow& r : rows) text += number(get(r), "%.6g") + "\n";
+    fields.add(name, 1, m, std::move(text));
   };
-  scalars("force_normal", [](const ContactRow& r) { return r.normal; });
   scalars("force_tangential", [](const ContactRow& r) { return r.tangential; });
   scalars("force_magnitude", [](const ContactRow& r) { return std::hypot(r.normal, r.tangential); });
   scalars("sliding", [](const ContactRow& r) { return r.sliding; });
+  fields.append_to(out, "contact_fields");
   return out;
 }
 
@@ -86,14 +92,15 @@ std::string snapshot_contacts_dump(const GrainSnapshot& s) {
   std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ENTRIES\n" +
                     std::to_string(rows.size()) + "\nITEM: BOX BOUNDS ff ff ff\n";
   for (int k = 0; k < 3; ++k) out += number(lo[k]) + " " + number(hi[k]) + "\n";
+  // grain_a and grain_b are the grains' ids in the grain dump (snapshot_lammps_dump): the grain's id + 1.
   out += "ITEM: ENTRIES index grain_a grain_b fx fy fz force_normal force_tangential sliding\n";
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const ContactRow& r = rows[k];
     const Vec3& f = r.force;
-    out += std::to_string(k + 1) + " " + std::to_string(value(s.id[r.a])) + " " +
-           std::to_string(value(s.id[r.b])) + " " + number(f.x(), "%.6g") + " " + number(f.y(), "%.6g") + " " +
-           number(f.z(), "%.6g") + " " + number(r.normal, "%.6g") + " " + number(r.tangential, "%.6g") + " " +
-           number(r.sliding, "%.6g") + "\n";
+    out += std::to_string(k + 1) + " " + std::to_string(std::uint64_t(value(s.id[r.a])) + 1) + " " +
+           std::to_string(std::uint64_t(value(s.id[r.b])) + 1) + " " + number(f.x(), "%.6g") + " " +
+           number(f.y(), "%.6g") + " " + number(f.z(), "%.6g") + " " + number(r.normal, "%.6g") + " " +
+           number(r.tangential, "%.6g") + " " + number(r.sliding, "%.6g") + "\n";
   }
   return out;
 }
@@ -121,18 +128,24 @@ std::string snapshot_spheres_dump(const GrainSnapshot& s) {
   std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ATOMS\n" +
                     std::to_string(centres.size()) + "\nITEM: BOX BOUNDS ff ff ff\n";
   for (int k = 0; k < 3; ++k) out += number(lo[k]) + " " + number(hi[k]) + "\n";
-  out += "ITEM: ATOMS id mol type x y z radius penetration_ratio gamma_max equivalent_strain d2min misorientation\n";
+  // mol: the grain's id in the grain dump, the grain's id + 1 (LAMMPS' molecule 0 is no molecule). A field the
+  // stored snapshot predates has no column (no "nan").
+  const bool d2min = s.d2min.size() == n, misorientation = s.misorientation.size() == n;
+  out += "ITEM: ATOMS id mol type x y z radius penetration_ratio gamma_max equivalent_strain";
+  out += std::string(d2min ? " d2min" : "") + (misorientation ? " misorientation" : "") + "\n";
   out.reserve(out.size() + centres.size() * 110);
-  const double nan = std::nan("");
   char line[320];
   for (std::size_t i = 0; i < n; ++i) {
     const double radius = grain.radius() * (i < s.scale.size() ? s.scale[i] : 1.0);
-    const double d2 = i < s.d2min.size() ? s.d2min[i] : nan, angle = i < s.misorientation.size() ? s.misorientation[i] : nan;
+    char fields[64] = "";
+    int at = 0;
+    if (d2min) at += std::snprintf(fields + at, sizeof fields - at, " %.6g", s.d2min[i]);
+    if (misorientation) at += std::snprintf(fields + at, sizeof fields - at, " %.6g", s.misorientation[i]);
     for (std::size_t k = 0; k < per; ++k) {
       const Vec3& x = centres[i * per + k];
-      std::snprintf(line, sizeof line, "%zu %u 1 %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g %.6g\n", i * per + k + 1,
-                    value(s.id[i]), x.x(), x.y(), x.z(), radius, s.penetration_ratio[i], s.gamma_max[i],
-                    s.equivalent_strain[i], d2, angle);
+      std::snprintf(line, sizeof line, "%zu %llu 1 %.9g %.9g %.9g %.6g %.6g %.6g %.6g%s\n", i * per + k + 1,
+                    static_cast<unsigned long long>(value(s.id[i])) + 1, x.x(), x.y(), x.z(), radius,
+                    s.penetration_ratio[i], s.gamma_max[i], s.equivalent_strain[i], fields);
       out += line;
     }
   }
@@ -166,17 +179,20 @@ std::string snapshot_meshes_vtk(const GrainSnapshot& s) {
       out += "\n";
       first += f.vertices.size();
     }
-  // Each face carries its grain's values (ParaView colours the grain by them).
+  // Each face carries its grain's values (ParaView colours the grain by them): `id` the active scalars, the
+  // others in a FIELD block, which every legacy reader reads (api/legacy_vtk.h).
   out += "CELL_DATA " + std::to_string(n * faces) + "\nSCALARS id int 1\nLOOKUP_TABLE default\n";
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t f = 0; f < faces; ++f) out += std::to_string(value(s.id[i])) + "\n";
+  VtkFieldBlock fields;
   const auto scalars = [&](const char* name, const std::vector<double>& v) {
     if (v.size() != n) return;  // a field the stored snapshot predates
-    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
+    std::string text;
     for (std::size_t i = 0; i < n; ++i) {
       const std::string line = number(v[i], "%.6g") + "\n";
-      for (std::size_t f = 0; f < faces; ++f) out += line;
+      for (std::size_t f = 0; f < faces; ++f) text += line;
     }
+    fields.add(name, 1, n * faces, std::move(text));
   };
   std::vector<double> displacement;
   for (const Vec3& d : s.displacement) displacement.push_back(d.norm());
@@ -186,6 +202,7 @@ std::string snapshot_meshes_vtk(const GrainSnapshot& s) {
   scalars("equivalent_strain", s.equivalent_strain);
   scalars("d2min", s.d2min);
   scalars("misorientation", s.misorientation);
+  fields.append_to(out, "grain_fields");
   return out;
 }
 

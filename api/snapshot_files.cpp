@@ -3,6 +3,7 @@
 #include "engine/analysis/snapshot_layers.h"
 
 #include "api/dic_files.h"
+#include "api/legacy_vtk.h"
 #include "api/network_files.h"
 #include "api/summary_json.h"
 #include "engine/analysis/slip_bands.h"
@@ -10,7 +11,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -204,36 +204,46 @@ GrainSnapshot snapshot_from_json(const nlohmann::json& j) {
 }
 
 std::string snapshot_lammps_dump(const GrainSnapshot& s) {
+  const std::size_t n = s.id.size();
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const Vec3& x : s.position) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ATOMS\n" +
-                    std::to_string(s.id.size()) + "\nITEM: BOX BOUNDS ff ff ff\n";
+  if (s.position.empty()) lo = hi = Vec3::Zero();
+  std::string out = "ITEM: TIMESTEP\n" + std::to_string(s.step) + "\nITEM: NUMBER OF ATOMS\n" + std::to_string(n) +
+                    "\nITEM: BOX BOUNDS ff ff ff\n";
   for (int k = 0; k < 3; ++k) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "%.9g %.9g\n", lo[k], hi[k]);
     out += buf;
   }
+  // As LAMMPS writes a dump: ids from 1 (the grain's id + 1) and a type (1: every grain is the same kind; knocked-out
+  // grains are not in the snapshot), which readers such as ASE's require. A field the stored snapshot predates has
+  // no column (no "nan").
+  const bool d2min = s.d2min.size() == n,
+             misorientation = s.misorientation.size() == n && s.misorientation_axis.size() == n;
   // radius: the grain's inscribed sphere (half the neighbour distance), so OVITO draws touching grains.
   const double radius = 0.5 * neighbour_distance(s);
   out +=
-      "ITEM: ATOMS id x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio "
-      "gamma_max equivalent_strain d2min misorientation misorientation_axis_x misorientation_axis_y "
-      "misorientation_axis_z\n";
+      "ITEM: ATOMS id type x y z radius dx dy dz quatw quati quatj quatk penetration penetration_ratio gamma_max "
+      "equivalent_strain";
+  if (d2min) out += " d2min";
+  if (misorientation) out += " misorientation misorientation_axis_x misorientation_axis_y misorientation_axis_z";
+  out += "\n";
   char line[640];
-  const double nan = std::numeric_limits<double>::quiet_NaN();  // a field the stored snapshot predates
-  for (std::size_t i = 0; i < s.id.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const Vec3 &x = s.position[i], &d = s.displacement[i];
     const Quat& q = s.orientation[i];
-    const double d2 = i < s.d2min.size() ? s.d2min[i] : nan;
-    const double angle = i < s.misorientation.size() ? s.misorientation[i] : nan;
-    const Vec3 axis = i < s.misorientation_axis.size() ? s.misorientation_axis[i] : Vec3::Constant(nan);
-    std::snprintf(line, sizeof line,
-                  "%u %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g "
-                  "%.6g\n",
-                  value(s.id[i]), x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(), q.x(), q.y(), q.z(),
-                  s.penetration[i], s.penetration_ratio[i], s.gamma_max[i], s.equivalent_strain[i], d2, angle,
-                  axis.x(), axis.y(), axis.z());
+    int at = std::snprintf(
+        line, sizeof line, "%llu 1 %.9g %.9g %.9g %.6g %.6g %.6g %.6g %.9g %.9g %.9g %.9g %.6g %.6g %.6g %.6g",
+        static_cast<unsigned long long>(value(s.id[i])) + 1, x.x(), x.y(), x.z(), radius, d.x(), d.y(), d.z(), q.w(),
+        q.x(), q.y(), q.z(), s.penetration[i], s.penetration_ratio[i], s.gamma_max[i], s.equivalent_strain[i]);
+    if (d2min) at += std::snprintf(line + at, sizeof line - at, " %.6g", s.d2min[i]);
+    if (misorientation) {
+      const Vec3& axis = s.misorientation_axis[i];
+      at += std::snprintf(line + at, sizeof line - at, " %.6g %.6g %.6g %.6g", s.misorientation[i], axis.x(), axis.y(),
+                          axis.z());
+    }
     out += line;
+    out += "\n";
   }
   return out;
 }
@@ -249,10 +259,13 @@ std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   for (GrainId id : s.id) out += std::to_string(value(id)) + "\n";
   out += "VECTORS displacement double\n";
   for (const Vec3& d : s.displacement) append(out, "%.6g %.6g %.6g\n", d.x(), d.y(), d.z());
+  // The other arrays in a FIELD block, which every legacy reader reads (api/legacy_vtk.h).
+  VtkFieldBlock fields;
   auto scalars = [&](const char* name, const std::vector<double>& v) {
-    out += std::string("SCALARS ") + name + " double 1\nLOOKUP_TABLE default\n";
+    std::string text;
     char buf[40];
-    for (double x : v) std::snprintf(buf, sizeof buf, "%.6g\n", x), out += buf;
+    for (double x : v) std::snprintf(buf, sizeof buf, "%.6g\n", x), text += buf;
+    fields.add(name, 1, n, std::move(text));
   };
   scalars("penetration", s.penetration);
   scalars("penetration_ratio", s.penetration_ratio);
@@ -261,13 +274,16 @@ std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   if (s.d2min.size() == n) scalars("d2min", s.d2min);
   if (s.misorientation.size() == n && s.misorientation_axis.size() == n) {
     scalars("misorientation", s.misorientation);
-    out += "VECTORS misorientation_axis double\n";
-    for (const Vec3& a : s.misorientation_axis) append(out, "%.6g %.6g %.6g\n", a.x(), a.y(), a.z());
+    std::string axes;
+    for (const Vec3& a : s.misorientation_axis) append(axes, "%.6g %.6g %.6g\n", a.x(), a.y(), a.z());
+    fields.add("misorientation_axis", 3, n, std::move(axes));
   }
-  out += "FIELD orientation 1\nquaternion_wxyz 4 " + std::to_string(n) + " double\n";
+  std::string quaternions;
   char buf[128];
   for (const Quat& q : s.orientation)
-    std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g %.9g\n", q.w(), q.x(), q.y(), q.z()), out += buf;
+    std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g %.9g\n", q.w(), q.x(), q.y(), q.z()), quaternions += buf;
+  fields.add("quaternion_wxyz", 4, n, std::move(quaternions));
+  fields.append_to(out, "grain_fields");
   return out;
 }
 

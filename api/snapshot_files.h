@@ -22,7 +22,12 @@ nlohmann::json slip_bands_json(const std::vector<SlipBand>& bands, LatticeType l
 /// The inverse of snapshot_json (what the server stored back into a snapshot, for the other formats and
 /// pictures); throws std::invalid_argument naming what is missing or inconsistent.
 GrainSnapshot snapshot_from_json(const nlohmann::json& j);
+/// A LAMMPS text dump of the grains: "id type x y z radius dx dy dz quatw quati quatj quatk penetration
+/// penetration_ratio gamma_max equivalent_strain d2min misorientation misorientation_axis_x/_y/_z", ids from 1 (the
+/// grain's id + 1, as LAMMPS counts), type 1; d2min and the misorientation only when the snapshot has them.
 std::string snapshot_lammps_dump(const GrainSnapshot& s);
+/// Grains as points: active scalars `id` (the grain's id, from 0 as in the JSON), vectors `displacement`, and a FIELD
+/// block (api/legacy_vtk.h) of the per-grain measures and `quaternion_wxyz`.
 std::string snapshot_grains_vtk(const GrainSnapshot& s);
 std::string snapshot_interfaces_vtk(const GrainSnapshot& s);
 

@@ -364,11 +364,11 @@ TEST(SnapshotFiles, JsonRoundTripAndTheDumpsRadiusIsHalfTheNeighbourDistance) {
   EXPECT_EQ(r.step, 1234u);
   EXPECT_NEAR(neighbour_distance(s), kSize / std::sqrt(2.0), 1e-12);
   const std::string dump = api::snapshot_lammps_dump(s);
-  EXPECT_NE(dump.find("ITEM: ATOMS id x y z radius "), std::string::npos);
+  EXPECT_NE(dump.find("ITEM: ATOMS id type x y z radius "), std::string::npos);
   const auto line = dump.find('\n', dump.find("ITEM: ATOMS")) + 1;
   std::istringstream first(dump.substr(line));
-  double id, x, y, z, radius;
-  first >> id >> x >> y >> z >> radius;
+  double id, type, x, y, z, radius;
+  first >> id >> type >> x >> y >> z >> radius;
   EXPECT_NEAR(radius, kSize / std::sqrt(8.0), 1e-6 * kSize);  // written with 6 significant digits
   EXPECT_THROW(api::snapshot_from_json(nlohmann::json::object()), std::invalid_argument);
   nlohmann::json short_one = api::snapshot_json(s);

@@ -357,11 +357,11 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(dump[0], "ITEM: TIMESTEP")
             header = next(i for i, line in enumerate(dump) if line.startswith("ITEM: ATOMS"))
             columns = dump[header].split()[2:]
-            self.assertEqual(columns[:5], ["id", "x", "y", "z", "radius"])
+            self.assertEqual(columns[:6], ["id", "type", "x", "y", "z", "radius"])
             atoms = dump[header + 1:]
             self.assertEqual(len(atoms), 12)  # a line per grain
             self.assertTrue(all(len(line.split()) == len(columns) for line in atoms))
-            self.assertTrue(all(float(line.split()[4]) > 0 for line in atoms))
+            self.assertTrue(all(float(line.split()[5]) > 0 for line in atoms))
             for fmt in ("vtk", "vtk_interfaces", "dic_vtk"):
                 self.assertTrue(self.client.snapshot_file(job, k, fmt).startswith("# vtk DataFile"), fmt)
             # The DIC-like map: a finer step gives more nodes; strain 0 is no strain anywhere.

@@ -476,7 +476,7 @@ class ResultsEndToEndTest(unittest.TestCase):
             self.assertEqual(len(headers), 1)
             names = lines[headers[0]].split()[2:]
             self.assertIn("radius", names)
-            self.assertEqual(names[:4], ["id", "x", "y", "z"])
+            self.assertEqual(names[:5], ["id", "type", "x", "y", "z"])  # as LAMMPS writes them
             atoms = lines[headers[0] + 1:]
             self.assertEqual(len(atoms), GRAINS)
             rows = [dict(zip(names, map(float, line.split()))) for line in atoms]
@@ -488,7 +488,8 @@ class ResultsEndToEndTest(unittest.TestCase):
             self.assertGreater(radius, 0)
             # About half the grain spacing: an RD of cubic cell a = 0.01 m has neighbours a / sqrt 2 apart.
             self.assertAlmostEqual(radius, 0.01 / math.sqrt(2) / 2, delta=0.2 * 0.01 / math.sqrt(2) / 2)
-            self.assertEqual([int(r["id"]) for r in rows], data["id"])
+            self.assertEqual([int(r["id"]) for r in rows], [i + 1 for i in data["id"]])  # from 1, as in LAMMPS
+            self.assertEqual({r["type"] for r in rows}, {1})
             for r, x, z in zip(rows, data["x"], data["z"]):
                 self.assertAlmostEqual(r["x"], x, delta=1e-8 * max(1.0, abs(x)))
                 self.assertAlmostEqual(r["z"], z, delta=1e-8 * max(1.0, abs(z)))
