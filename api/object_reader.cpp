@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 namespace granulab::api {
@@ -135,7 +136,12 @@ std::vector<double> ObjectReader::numbers(const std::string& key, const std::vec
     if (!std::isfinite(x) || x < lo || x > hi)
       throw SpecError("out_of_range", field(key),
                       "'" + field(key) + "' values must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(x));
-  normalized_[key] = v;
+  // A list of whole numbers (a lattice direction, Miller indices) is written as integers: [2, -1, -1], as a user
+  // writes it, not [2.0, -1.0, -1.0]; any other list as its numbers. Reading either back gives the same values.
+  const bool whole = std::all_of(v.begin(), v.end(), [](double x) { return x == std::trunc(x) && std::abs(x) < 9e15; });
+  nlohmann::json out = nlohmann::json::array();
+  for (double x : v) out.push_back(whole ? nlohmann::json(std::int64_t(x)) : nlohmann::json(x));
+  normalized_[key] = out;
   return v;
 }
 

@@ -24,7 +24,7 @@ class ObjectReader {
   long integer(const std::string& key, long fallback, long lo, long hi);
   std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
   std::string text(const std::string& key, const std::string& fallback, std::size_t max_length);
-  /// An array of numbers each in [lo, hi], at most max_items.
+  /// An array of numbers each in [lo, hi], at most max_items (normalised as integers when all are whole).
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, double lo, double hi,
                               std::size_t max_items);
   /// An array of integers each in [lo, hi], at most max_items.

@@ -1,6 +1,7 @@
 #include "server/admission.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -142,8 +143,8 @@ json Admission::cost_estimate(const api::Spec& spec) const {
   for (const WorkPhase& p : w.phases) phases.push_back({{"name", p.name}, {"steps", p.steps}});
   json out = {{"dry_run", true},
               {"experiment", experiment},
-              {"spheres", w.spheres},
-              {"grains", w.grains},
+              {"spheres", std::llround(w.spheres)},  // counts, as integers
+              {"grains", std::llround(w.grains)},
               {"steps", w.expected_steps()},
               {"phases", phases},
               {"max_steps", w.steps},

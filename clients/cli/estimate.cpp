@@ -1,5 +1,6 @@
 #include "clients/cli/estimate.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -41,7 +42,7 @@ int run_estimate(int argc, char** argv) {
   const Workload w = spec.experiment->workload();
   json phases = json::array();
   for (const WorkPhase& p : w.phases) phases.push_back({{"name", p.name}, {"steps", p.steps}});
-  json out = {{"experiment", spec.name()}, {"spheres", w.spheres},   {"grains", w.grains},
+  json out = {{"experiment", spec.name()}, {"spheres", std::llround(w.spheres)},  {"grains", std::llround(w.grains)},
               {"steps", w.expected_steps()}, {"phases", phases}, {"max_steps", w.steps}};
   if (const json e = api::yield_estimate_json(*spec.experiment); !e.is_null()) out["yield_estimate"] = e;
   if (json_out) {

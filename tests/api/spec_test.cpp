@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/curve_format.h"
+#include "api/runner.h"
 #include "api/spec.h"
 #include "engine/model/model.h"
 #include "api/summary_json.h"
@@ -215,6 +216,26 @@ TEST(SpecDefaults, LatticeAndAxisFollowEachOther) {
       R"({"experiment": "crystal_confinement", "crystal": {"lattice": "bcc"}, "loading": {"axis": [1, 1, 1], "lateral": [1, -1, 0]}})");
   EXPECT_EQ(bcc.normalized.at("grain").at("shape"), "truncated_octahedron");
   EXPECT_EQ(bcc.as<CrystalConfinementExperiment>().params.lateral, (Indices{1, -1, 0}));
+}
+
+// Whole numbers are written as integers (issue 51): a direction reads [2, -1, -1, 0], not [2.0, -1.0, -1.0, 0.0],
+// counts are integers, and the normalised spec read again is the same text (its hash, the reuse key, too).
+TEST(SpecDefaults, WholeNumbersAreWrittenAsIntegers) {
+  const Spec hcp = parse_spec_text(R"({"experiment": "crystal_shear", "crystal": {"lattice": "hcp"}})");
+  const std::string text = hcp.normalized.dump();
+  EXPECT_NE(text.find(R"("direction":[2,-1,-1,0])"), std::string::npos) << text;
+  EXPECT_NE(text.find(R"("plane":[0,0,0,1])"), std::string::npos) << text;
+  EXPECT_TRUE(hcp.normalized.at("crystal").at("grains_x").is_number_integer());
+  const Spec given = parse_spec_text(
+      R"({"experiment": "crystal_compression", "crystal": {"lattice": "sc"}, "loading": {"axis": [0.0, 1.0, 1]},
+          "output": {"snapshot_strains": [0, 0.01]}})");
+  EXPECT_EQ(given.normalized.at("loading").at("axis").dump(), "[0,1,1]");
+  EXPECT_EQ(given.normalized.at("output").at("snapshot_strains").dump(), "[0.0,0.01]");  // not all whole: as numbers
+  for (const Spec* s : {&hcp, &given}) {
+    const Spec again = parse_spec_text(s->normalized.dump());
+    EXPECT_EQ(again.normalized.dump(), s->normalized.dump());
+    EXPECT_EQ(spec_hash(again.normalized), spec_hash(s->normalized));
+  }
 }
 
 TEST(SpecDefaults, ShearPlaneAndDirectionAreTheSampleAxes) {

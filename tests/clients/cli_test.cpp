@@ -469,6 +469,7 @@ TEST_F(CliTest, EstimatePrintsTheRigidGrainYieldWithoutRunning) {
   const nlohmann::json answer = nlohmann::json::parse(json_run.out);
   EXPECT_EQ(answer.at("experiment"), "crystal_compression");
   EXPECT_GT(answer.at("spheres").get<double>(), 0);
+  EXPECT_TRUE(answer.at("spheres").is_number_integer() && answer.at("grains").is_number_integer()) << json_run.out;
   EXPECT_NEAR(answer.at("yield_estimate").at("axial_over_p0").get<double>(), 1.2 / 0.8, 1e-12);
   const RunResult text = run({"estimate", spec.string()});
   ASSERT_EQ(text.exit_code, 0) << text.err;

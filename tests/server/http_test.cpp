@@ -303,6 +303,7 @@ TEST_F(Daemon, CliSweepWaitDryRunAndResultsInEveryFormat) {
   const json cost = json::parse(out);
   EXPECT_TRUE(cost["dry_run"].get<bool>());
   EXPECT_GT(cost["expected_seconds"].get<double>(), 0);
+  EXPECT_TRUE(cost["grains"].is_number_integer() && cost["spheres"].is_number_integer()) << cost.dump();  // counts
   EXPECT_EQ(get("/v1/jobs?limit=1000")["jobs"].size(), 1u) << "a dry run queued a job";
 
   // wait on two jobs: one line each at the end, exit 0 when both succeeded.
