@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -44,7 +45,8 @@ const char* kUsage =
     "                certificate: --ca-file FILE or GRANULAB_CA_FILE; status, cancel, delete,\n"
     "                priority and list print lines for people, --json the server's answer for scripts)\n"
     "       granulab estimate SPEC.json [--json]   (in-process, instant: size, expected steps, rigid-grain yield)\n"
-    "       granulab experiments [--markdown]    (every experiment, its spec fields and curve columns)\n"
+    "       granulab experiments [--json | --markdown]   (a line each: name and title; --json or --markdown: with\n"
+    "                its spec fields and curve columns, as GET /v1/experiments and docs/spec.md)\n"
     "       granulab version\n"
     "       granulab worker --server URL --job ID [--patience S]   (what granulabd's Slurm jobs run; docs/cluster.md)\n"
     "run: one experiment in-process; writes DIR/summary.json, DIR/curve.csv, DIR/snapshots/.\n"
@@ -182,6 +184,19 @@ int run(int argc, char** argv) {
   return 0;
 }
 
+// `granulab experiments`: a line per experiment, its name and title, for people (the fields of all of them are
+// tens of kB: --json, --markdown).
+std::string experiments_list(const nlohmann::json& description) {
+  std::size_t width = 0;
+  for (const nlohmann::json& e : description["experiments"]) width = std::max(width, e["name"].get<std::string>().size());
+  std::string out;
+  for (const nlohmann::json& e : description["experiments"]) {
+    const std::string name = e["name"].get<std::string>();
+    out += name + std::string(width + 2 - name.size(), ' ') + e["title"].get<std::string>() + "\n";
+  }
+  return out + "Spec fields and curve columns: granulab experiments --markdown (docs/spec.md), or --json.\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -208,8 +223,14 @@ int main(int argc, char** argv) {
   try {
     if (command == "run") return run(argc, argv);
     if (command == "experiments") {
-      const bool markdown = argc > 2 && std::string(argv[2]) == "--markdown";
-      std::cout << (markdown ? api::experiments_markdown() : api::experiments_json().dump(2) + "\n");
+      const std::string format = argc > 2 ? argv[2] : "";
+      if (argc > 3 || (!format.empty() && format != "--json" && format != "--markdown")) {
+        std::cerr << "'experiments' takes --json or --markdown, got '" << argv[argc - 1] << "'\n" << kUsage;
+        return 2;
+      }
+      if (format == "--markdown") std::cout << api::experiments_markdown();
+      else if (format == "--json") std::cout << api::experiments_json().dump(2) << "\n";
+      else std::cout << experiments_list(api::experiments_json());
       return 0;
     }
     if (command == "version") {

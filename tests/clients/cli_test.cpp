@@ -486,6 +486,36 @@ TEST_F(CliTest, EstimatePrintsTheRigidGrainYieldWithoutRunning) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// 4b. experiments
+
+// A line per experiment for people (name, title; the descriptions of all are tens of kB); --json the description
+// GET /v1/experiments serves, --markdown docs/spec.md; anything else exits 2 (issue 51).
+TEST_F(CliTest, ExperimentsListsOneLineEachAndJsonOnRequest) {
+  const RunResult list = run({"experiments"});
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  const RunResult json_run = run({"experiments", "--json"});
+  ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
+  const nlohmann::json described = nlohmann::json::parse(json_run.out);
+  ASSERT_FALSE(described.at("experiments").empty());
+  std::istringstream lines(list.out);
+  for (const nlohmann::json& e : described.at("experiments")) {
+    std::string line;
+    ASSERT_TRUE(std::getline(lines, line)) << list.out;
+    EXPECT_EQ(line.rfind(e.at("name").get<std::string>() + "  ", 0), 0u) << line;
+    EXPECT_NE(line.find(e.at("title").get<std::string>()), std::string::npos) << line;
+  }
+  EXPECT_LT(list.out.size(), 4000u) << "a list, not the fields";
+  EXPECT_NE(list.out.find("--json"), std::string::npos) << list.out;
+  EXPECT_FALSE(described.at("experiments")[0].at("fields").empty());
+  const RunResult markdown = run({"experiments", "--markdown"});
+  EXPECT_EQ(markdown.exit_code, 0);
+  EXPECT_EQ(markdown.out.rfind("# ", 0), 0u) << markdown.out.substr(0, 80);
+  const RunResult bad = run({"experiments", "--yaml"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("'--yaml'"), std::string::npos) << bad.err;
+}
+
+// ---------------------------------------------------------------------------------------------
 // 5. version
 
 // --help and --version work alone and after any command: usage or version on stdout, exit 0, nothing run.
