@@ -140,6 +140,14 @@ function keyValues(headline, summary, at) {
     return v.label + " " + fmt(lookup(summary, v.key)) + (v.unit === "-" ? "" : " " + v.unit) + where;
   });
 }
+// A spec field's allowed range as it is: "(0, 0.5]" when the lower bound itself is not allowed, the upper bound
+// another field's value when it is one ("[0, loading.max_strain]"), "each in" for a list's values; "" for none.
+function rangeText(f) {
+  if (f.minimum === undefined) return "";
+  const upper = f.maximum !== undefined ? f.maximum : f.maximum_is;
+  const range = (f.exclusive_minimum ? "(" : "[") + f.minimum + ", " + (upper !== undefined ? upper : "∞") + "]";
+  return (f.type.startsWith("array") ? " each in " : " ") + range;
+}
 // A summary list of groups (a crystal's load-unload cycles, say) as a table: a column per field.
 function summaryTable(title, rows) {
   const flat = rows.map((r) => Object.fromEntries(Object.entries(r).filter(([, v]) => typeof v !== "object")));
@@ -379,11 +387,14 @@ async function submitView() {
       const shown = value !== undefined ? value : f.default;
       const text = typeof shown === "object" ? JSON.stringify(shown) : String(shown);
       const unit = f.unit && f.unit !== "-" ? " (" + f.unit + ")" : "";
-      const range = f.minimum !== undefined ? " [" + f.minimum + ", " + f.maximum + "]" : f.choices ? " one of " + f.choices.join(", ") : "";
-      rows.push(el("label", { for: "f-" + f.field }, f.field),
-        el("input", { id: "f-" + f.field, name: f.field, value: text, "data-default": JSON.stringify(f.default),
-          "data-default-text": value !== undefined ? "" : text }),
-        el("span", { class: "meaning" }, f.meaning + unit + range),
+      const attrs = { id: "f-" + f.field, name: f.field, "data-default": JSON.stringify(f.default),
+        "data-default-text": value !== undefined ? "" : text };
+      // A field with a list of values is a menu of them (the shown value selected); any other a text box.
+      const input = f.choices
+        ? el("select", attrs, [...new Set([...f.choices, text])].map((c) => el("option", { value: c, selected: c === text }, c)))
+        : el("input", { ...attrs, value: text });
+      rows.push(el("label", { for: "f-" + f.field }, f.field), input,
+        el("span", { class: "meaning" }, f.meaning + unit + rangeText(f)),
         el("div", { class: "field-error", id: "e-" + f.field, hidden: true }));
     }
     fill(form, ...rows);

@@ -2,7 +2,8 @@
 """The web page at / in a real browser (Debian's headless Chromium, driven over the DevTools protocol on a
 pipe): it lists submitted jobs with their status and keeps them live, shows a job's curve and snapshot
 sections, a sweep's overlaid curves and table (a long legend drawn inside the picture), reports a bad field
-next to that field and submits a good spec, and asks for a token once on a server that needs one.
+next to that field and submits a good spec (a field's allowed values as a menu, its range as it is: "(0, 1]"),
+and asks for a token once on a server that needs one.
 
 Standard library only. The daemon comes from $GRANULABD (set by CTest) or build/granulabd; Chromium from
 $CHROMIUM or /usr/bin/chromium (the test is skipped, loudly, when there is none).
@@ -309,6 +310,43 @@ class WebPageTest(unittest.TestCase):
         self.assertEqual(spec["grain"]["edge_spheres"], 4)
         self.assertEqual(self.browser.until("document.querySelector('#job-head h1') && "
                                             "document.querySelector('#job-head h1').textContent"), f"Job {job}: from the form")
+
+    def test_the_form_offers_a_fields_values_as_a_menu_and_shows_ranges_as_they_are(self):
+        described = {e["name"]: {f["field"]: f for f in e["fields"]}
+                     for e in self.daemon.call("GET", "/v1/experiments")["experiments"]}
+        self.browser.open(self.daemon.url + "/#/submit")
+        self.browser.until("document.getElementById('f-contact.tangential') !== null")
+        menu = self.browser.js("""(() => { const s = document.getElementById('f-contact.tangential');
+            return {tag: s.tagName, options: Array.from(s.options).map(o => o.value), value: s.value}; })()""")
+        self.assertEqual(menu["tag"], "SELECT")
+        self.assertEqual(menu["options"], described["two_cube_sliding"]["contact.tangential"]["choices"])
+        self.assertEqual(menu["value"], described["two_cube_sliding"]["contact.tangential"]["default"])
+        self.assertEqual(self.browser.js("document.getElementById('f-grain.size').tagName"), "INPUT")  # a number
+
+        def meaning(field):
+            return self.browser.js(f"document.getElementById('f-{field}').nextElementSibling.textContent")
+        # grain.size > 0: the bound itself is not allowed; grain.overlap may be 0.
+        self.assertTrue(described["two_cube_sliding"]["grain.size"]["exclusive_minimum"])
+        self.assertIn("(0, 1]", meaning("grain.size"))
+        self.assertIn("[0, 0.95]", meaning("grain.overlap"))
+        # A crystal: an upper bound that is another field's value is named, a list's range is each value's.
+        self.browser.js("""(() => { const s = document.getElementById('experiment'); s.value = 'crystal_compression';
+                           s.dispatchEvent(new Event('change')); })()""")
+        self.browser.until("document.getElementById('f-crystal.lattice') !== null")
+        self.assertEqual(self.browser.js("Array.from(document.getElementById('f-crystal.lattice').options).map(o => o.value)"),
+                         described["crystal_compression"]["crystal.lattice"]["choices"])
+        self.assertIn("each in [0, loading.max_strain]", meaning("output.snapshot_strains"))
+        self.assertNotIn("undefined", self.browser.js("document.getElementById('spec-form').textContent"))
+        # A value chosen from the menu is the one submitted.
+        self.browser.js("""(() => { const s = document.getElementById('experiment'); s.value = 'two_cube_sliding';
+                           s.dispatchEvent(new Event('change')); })()""")
+        self.browser.until("document.getElementById('f-contact.tangential') !== null")
+        self.browser.js("""(() => { const set = (k, v) => document.getElementById('f-' + k).value = v;
+                           set('contact.tangential', 'mindlin'); set('loading.max_slide', '0.1');
+                           set('grain.edge_spheres', '4'); set('output.curve_points', '5'); set('label', 'a menu');
+                           document.getElementById('submit').click(); })()""")
+        job = int(self.browser.until("(location.hash.match(/^#\\/jobs\\/(\\d+)$/) || [])[1]"))
+        self.assertEqual(self.daemon.call("GET", f"/v1/jobs/{job}")["spec"]["contact"]["tangential"], "mindlin")
 
     def test_the_form_starts_from_a_quick_crystal_shows_the_cost_and_asks_before_a_long_job(self):
         self.browser.open(self.daemon.url + "/#/submit")
