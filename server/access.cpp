@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -108,6 +109,39 @@ std::string add_token(const std::string& path, const std::string& user, bool adm
   const bool closed = ::fsync(fd) == 0 && ::close(fd) == 0;
   if (!written || !closed) throw std::runtime_error("could not write the token file '" + path + "' whole");
   return token;
+}
+
+void remove_token(const std::string& path, const std::string& user) {
+  read_token_file(path);  // a file that does not read is the file's problem: not rewritten
+  std::ifstream in(path);
+  std::string kept, line;
+  int removed = 0, others = 0;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string name;
+    const bool entry = (fields >> name) && name[0] != '#';
+    if (entry && name == user) {
+      ++removed;
+      continue;
+    }
+    others += entry;
+    kept += line + "\n";
+  }
+  if (!removed) throw std::invalid_argument("user '" + user + "' has no token in " + path);
+  if (!others)
+    throw std::invalid_argument("'" + user + "' is the last user in " + path +
+                                ": granulabd refuses a token file of no token (at start and on SIGHUP, when it keeps "
+                                "the tokens it had); add another user first, or run granulabd without --token-file");
+  const std::string fresh = path + ".new";
+  const int fd = ::open(fresh.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd < 0) throw std::invalid_argument("cannot write '" + fresh + "': " + std::strerror(errno));
+  const bool written = ::write(fd, kept.data(), kept.size()) == ssize_t(kept.size());
+  const bool closed = ::fsync(fd) == 0 && ::close(fd) == 0;
+  if (!written || !closed || std::rename(fresh.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(fresh.c_str());
+    throw std::runtime_error("could not write the token file '" + path + "' anew: " + reason);
+  }
 }
 
 Access::Access(std::map<std::string, User> tokens, bool private_reads)

@@ -33,6 +33,13 @@ std::map<std::string, User> read_token_file(const std::string& path, std::string
 /// std::invalid_argument for a bad user name or one the file already has.
 std::string add_token(const std::string& path, const std::string& user, bool admin);
 
+/// Takes `user`'s line out of the token file (a daemon reading it again on SIGHUP no longer lets the token in);
+/// every other line, comments and blank ones included, stays as it was. The file is written anew beside the old
+/// one (0600) and renamed over it, so a reader sees the old file or the new one, never half of one.
+/// std::invalid_argument for a file that does not read, a user it does not have, or its last user (a file of
+/// no token is refused at start and on SIGHUP: the daemon would keep the old tokens).
+void remove_token(const std::string& path, const std::string& user);
+
 class Access {
  public:
   /// `tokens` empty: an open server, where everyone is an anonymous admin. `private_reads`: reading a job

@@ -33,6 +33,7 @@ namespace {
 
 const char* kUsage =
     "usage: granulabd token add USER [--admin] [--token-file FILE]   (a new user's token, printed once)\n"
+    "       granulabd token remove USER [--token-file FILE]   (the user's token taken out of the file)\n"
     "       granulabd [--host ADDR] [--port N] [--db FILE] [--workers K] [--threads T] [--token-file FILE]\n"
     "                 [--private] [--max-queued-per-user N] [--max-running-per-user N]\n"
     "                 [--request-timeout S] [--keep-alive-timeout S] [--max-connections N]\n"
@@ -133,8 +134,9 @@ DaemonOptions parse_options(int argc, char** argv) {
   return o;
 }
 
-// SIGHUP: the token file read again, so that a colleague added with `granulabd token add` can work
-// without a restart; a file that does not read keeps the tokens as they were.
+// SIGHUP: the token file read again, so that a colleague added with `granulabd token add` can work without a
+// restart, and one taken out with `token remove` no longer can; a file that does not read keeps the tokens as
+// they were.
 void reload_tokens(HttpServer& http, const std::string& token_file) {
   if (token_file.empty()) {
     spdlog::info("SIGHUP: no --token-file to read again; nothing changes");
@@ -152,13 +154,17 @@ void reload_tokens(HttpServer& http, const std::string& token_file) {
   }
 }
 
-// `granulabd token add USER [--admin] [--token-file FILE]`: exit status 0 and the token on stdout.
+// `granulabd token add USER [--admin] [--token-file FILE]`: exit status 0 and the token on stdout;
+// `granulabd token remove USER [--token-file FILE]`: exit status 0, the user's line gone from the file.
 int token_command(int argc, char** argv) {
   const std::string usage =
       "usage: granulabd token add USER [--admin] [--token-file FILE (default var/tokens)]\n"
-      "  appends USER with a new random token, stored as its hash, and prints the token once;\n"
-      "  a running granulabd --token-file FILE reads it on SIGHUP (kill -HUP <pid>)\n";
-  if (argc < 4 || std::string(argv[2]) != "add") {
+      "       granulabd token remove USER [--token-file FILE]\n"
+      "  add appends USER with a new random token, stored as its hash, and prints the token once; remove takes\n"
+      "  USER's line out of the file (the user's jobs stay); a running granulabd --token-file FILE reads the file\n"
+      "  again on SIGHUP (kill -HUP <pid>)\n";
+  const std::string action = argc >= 3 ? argv[2] : "";
+  if (argc < 4 || (action != "add" && action != "remove")) {
     std::cerr << usage;
     return 2;
   }
@@ -166,7 +172,7 @@ int token_command(int argc, char** argv) {
   bool admin = false;
   for (int i = 4; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--admin") admin = true;
+    if (a == "--admin" && action == "add") admin = true;
     else if (a == "--token-file" && i + 1 < argc) file = argv[++i];
     else {
       std::cerr << "unknown option '" << a << "'\n" << usage;
@@ -174,6 +180,12 @@ int token_command(int argc, char** argv) {
     }
   }
   try {
+    if (action == "remove") {
+      remove_token(file, user);
+      std::cerr << "removed user '" << user << "' from " << file << ". A running granulabd --token-file " << file
+                << "\nrefuses the token once it reads the file again, on SIGHUP (kill -HUP <pid>).\n";
+      return 0;
+    }
     if (std::filesystem::path(file).has_parent_path())
       std::filesystem::create_directories(std::filesystem::path(file).parent_path());
     const std::string token = add_token(file, user, admin);
@@ -183,7 +195,7 @@ int token_command(int argc, char** argv) {
               << "--token-file " << file << " takes it on SIGHUP; the user sets GRANULAB_TOKEN to it.\n";
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "granulabd token add: " << e.what() << "\n";
+    std::cerr << "granulabd token " << action << ": " << e.what() << "\n";
     return 2;
   }
 }

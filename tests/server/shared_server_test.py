@@ -4,7 +4,9 @@ a real SQLite file and a real token file:
 
 - tokens: `granulabd token add` writes a hash (never the token) to a 0600 file and prints the token once;
   SIGHUP reads the file again, so the new user's token works without a restart, while a running job goes on
-  and a bad file keeps the old tokens; the daemon survives SIGHUP whatever it holds;
+  and a bad file keeps the old tokens; the daemon survives SIGHUP whatever it holds; `granulabd token remove`
+  takes a user's line out (the others and comments stay) and after SIGHUP their token gets 401, their jobs
+  theirs; it refuses an unknown user and the file's last;
 - on a private server, ?reuse=true never hands one user another's job (an existence oracle);
 - a sweep that would store more than --max-sweep-mb of specs is refused before any point is made;
 - a user past --max-user-mb is refused (507 storage_quota) while another is not;
@@ -163,6 +165,55 @@ class TokensTest(unittest.TestCase):
             self.assertIsNone(daemon.process.poll())
             finished = daemon.client(alice).wait(running, timeout=120)
             self.assertEqual(finished["status"], "succeeded")
+        finally:
+            daemon.stop()
+
+    def test_token_remove_takes_a_user_out_and_sighup_shuts_their_token_out(self):
+        alice = token_add(self.file, "alice", admin=True).stdout.strip()
+        bob = token_add(self.file, "bob").stdout.strip()
+        with open(self.file, "a") as f:
+            f.write("# a comment stays\n")
+        carol = token_add(self.file, "carol").stdout.strip()
+        daemon = Daemon(self.dir, "--token-file", self.file, "--workers", "1", "--threads", "1")
+        try:
+            job = daemon.client(bob).submit(TINY)
+            self.assertEqual(daemon.client(bob).wait(job, timeout=60)["status"], "succeeded")
+            removed = subprocess.run([DAEMON, "token", "remove", "bob", "--token-file", self.file],
+                                     capture_output=True, text=True)
+            self.assertEqual(removed.returncode, 0, removed.stderr)
+            self.assertIn("SIGHUP", removed.stderr)
+            with open(self.file) as f:
+                lines = f.read().splitlines()
+            self.assertEqual([l.split()[0] for l in lines], ["alice", "#", "carol"])
+            self.assertEqual(lines[1], "# a comment stays")
+            self.assertEqual(stat.S_IMODE(os.stat(self.file).st_mode), 0o600)
+            self.assertEqual(os.listdir(self.dir).count("tokens.new"), 0)
+            daemon.client(bob).list()  # until the daemon reads the file again, bob is still in
+            daemon.process.send_signal(signal.SIGHUP)
+            deadline = time.time() + 10
+            while "SIGHUP: read 2 token(s)" not in daemon.text() and time.time() < deadline:
+                time.sleep(0.05)
+            self.assertIn("SIGHUP: read 2 token(s)", daemon.text())
+            with self.assertRaises(GranulabError) as refused:
+                daemon.client(bob).list()
+            self.assertEqual(refused.exception.status, 401)
+            self.assertEqual(daemon.client(carol).status(job)["owner"], "bob")  # bob's job stays his
+            self.assertEqual(daemon.client(alice).health()["status"], "ok")
+            # A user the file does not have, and its last user, are refused; the file stays as it was.
+            def remove(user):
+                return subprocess.run([DAEMON, "token", "remove", user, "--token-file", self.file],
+                                      capture_output=True, text=True)
+            for user in ("bob", "dave"):
+                self.assertEqual(remove(user).returncode, 2)
+                self.assertIn("has no token", remove(user).stderr)
+            self.assertEqual(remove("carol").returncode, 0)
+            with open(self.file) as f:
+                before = f.read()
+            last = remove("alice")
+            self.assertEqual(last.returncode, 2)
+            self.assertIn("last user", last.stderr)
+            with open(self.file) as f:
+                self.assertEqual(f.read(), before)
         finally:
             daemon.stop()
 
