@@ -10,7 +10,12 @@ export GRANULAB_SERVER=http://127.0.0.1:$port
 mkdir -p "$(dirname "$db")"
 "$build/granulabd" --port "$port" --db "$db" &
 daemon=$!
-stop() { kill -TERM $daemon 2>/dev/null; wait $daemon 2>/dev/null || true; }
+# Stops the daemon once. A command that fails inside a trap would end the script with its status under set -e
+# (the daemon already gone, say, after the terminal's Ctrl-C reached it too): nothing here may fail.
+stop() {
+  trap - EXIT
+  if kill -TERM "$daemon" 2>/dev/null; then wait "$daemon" 2>/dev/null || true; fi
+}
 # Ctrl-C (or a TERM) is how this is meant to end: stop the daemon and exit 0, so make reports no error.
 trap 'stop; echo "granulabd stopped (the jobs are kept in $db)"; exit 0' INT TERM
 trap stop EXIT

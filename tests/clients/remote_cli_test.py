@@ -14,7 +14,8 @@ on loopback with a real SQLite file and tokens:
 - `sweep --vary 'loading.axis=[0,0,1],[1,0,0]'` varies an array field: two jobs, each stored with its axis, and
   sweep.csv has each axis in one cell; the Python client's dict of lists does the same; a malformed --vary exits 2
   with what is wrong and the syntax, before anything is sent, and a value the spec refuses exits 1 naming the field
-  (issue 51, part 4).
+  (issue 51, part 4);
+- `make run`'s demo script exits 0 when Ctrl-C or a TERM stops it, with the daemon stopped (issue 51).
 
 Run from the repository root:  /usr/bin/python3 tests/clients/remote_cli_test.py
 Standard library only; the binaries come from $GRANULABD (set by CTest) or build/.
@@ -22,7 +23,9 @@ Standard library only; the binaries come from $GRANULABD (set by CTest) or build
 import csv
 import json
 import os
+import re
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -233,6 +236,31 @@ class RemoteCliTest(unittest.TestCase):
         made = self.cli("sweep", path, "--vary", "loading.axis=[0,0,1],[13,0,0]", "--out", bad)
         self.assertEqual(made.returncode, 1, made.stderr)
         self.assertIn("HTTP 400: 'vary.loading.axis' value [13,0,0]", made.stderr)
+
+
+class DemoScriptTest(unittest.TestCase):
+    """`make run`'s clients/demo.sh: Ctrl-C or a TERM (here to its whole process group, as a terminal sends it, while
+    it waits on the demo's job) stops the daemon and exits 0, so make reports no error (issue 51)."""
+
+    def test_a_signal_stops_the_daemon_and_the_script_exits_zero(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            with self.subTest(signal=sig.name), tempfile.TemporaryDirectory(prefix="granulab_demo_") as folder:
+                port = free_port()
+                env = dict(os.environ, BUILD=os.path.dirname(DAEMON), PORT=str(port),
+                           DB=os.path.join(folder, "demo.db"))
+                env.pop("GRANULAB_TOKEN", None)
+                demo = subprocess.Popen([os.path.join(ROOT, "clients", "demo.sh")], cwd=ROOT, env=env,
+                                        start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                        text=True)
+                seen = ""
+                while not re.search(r"^job \d+$", seen, re.M) and demo.poll() is None:
+                    seen += demo.stdout.readline()
+                os.killpg(demo.pid, sig)
+                out = seen + demo.communicate(timeout=60)[0]
+                self.assertEqual(demo.returncode, 0, out)
+                self.assertIn("granulabd stopped", out)
+                with socket.socket() as s:  # nobody serves the port any more
+                    self.assertNotEqual(s.connect_ex(("127.0.0.1", port)), 0, out)
 
 
 if __name__ == "__main__":
