@@ -29,7 +29,8 @@ json headline_json(const Headline& h) {
                       {"label", v.label},
                       {"unit", v.unit},
                       {"at_x", text_or_null(v.at_x)},
-                      {"at_y", text_or_null(v.at_y)}});
+                      {"at_y", text_or_null(v.at_y)},
+                      {"status", text_or_null(v.status)}});
   for (const SummaryTable& t : h.tables) tables.push_back({{"key", t.key}, {"title", t.title}});
   const json events = h.events.list ? json{{"list", h.events.list}, {"x", h.events.x}, {"label", h.events.label}}
                                     : json(nullptr);
@@ -55,6 +56,19 @@ std::optional<double> number_at_path(const json& j, const std::string& dotted) {
   const json* at = value_at_path(j, dotted);
   if (!at || !at->is_number()) return std::nullopt;
   return at->get<double>();
+}
+
+std::optional<std::string> missing_reason(const json& summary, const std::string& status) {
+  const json* group = value_at_path(summary, status);
+  if (!group || !group->is_object() || !group->contains("found") || !(*group)["found"].is_boolean() ||
+      (*group)["found"].get<bool>())
+    return std::nullopt;
+  return group->contains("reason") && (*group)["reason"].is_string() ? (*group)["reason"].get<std::string>() : "none";
+}
+
+std::optional<std::string> missing_reason(const json& summary, const char* status) {
+  if (!status) return std::nullopt;
+  return missing_reason(summary, std::string(status));
 }
 
 std::optional<double> scale_divisor(const Scale& s, const json& spec) {

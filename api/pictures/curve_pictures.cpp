@@ -146,6 +146,13 @@ LinePlot job_curve_plot(const json& spec, const json& curve, const json& summary
   const double y_factor = d.series.empty() ? 1 : d.series[0].factor;
   const bool first_drawn = choice.y.empty() && !h.series.empty() && d.series[0].column == h.series[0].column;
   for (const KeyValue& v : h.values) {
+    if (const auto reason = api::missing_reason(summary, v.status)) {  // named, never marked: there is no such point
+      Marker m;
+      m.label = std::string(v.label) + ": " + *reason;
+      m.on_curve = false;
+      plot.markers.push_back(m);
+      continue;
+    }
     const auto value = api::number_at_path(summary, v.key);
     if (!value) continue;
     Marker m;

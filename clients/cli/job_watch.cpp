@@ -95,6 +95,11 @@ std::string job_line(const json& job, const json& headline, int bar_width) {
     }
     const json summary = job.value("summary", json());
     for (const json& v : headline.value("values", json::array())) {
+      if (v.contains("status") && v["status"].is_string())
+        if (const auto reason = api::missing_reason(summary, v["status"].get<std::string>())) {
+          line += "  " + v.value("label", std::string()) + ": " + *reason;
+          continue;
+        }
       const double value = number_at(summary, v.value("key", std::string()), NAN);
       if (!std::isfinite(value)) continue;
       const std::string unit = v.value("unit", std::string());

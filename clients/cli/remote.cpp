@@ -216,10 +216,22 @@ int run_sweep(httplib::Client& http, const Args& a) {
         if (v.contains(k) && v[k].is_string() &&
             std::find(paths.begin(), paths.end(), v[k].get<std::string>()) == paths.end())
           paths.push_back(v[k].get<std::string>());
+  // A key value that may not exist (a first yield of a crystal that never yields) has its group's verdict beside it:
+  // <group>_found true or false and, when false, <group>_reason ("none to 1 % strain: ..."); its cells stay empty.
+  std::vector<std::string> statuses;
+  if (known.contains(experiment))
+    for (const json& v : known[experiment].value("values", json::array()))
+      if (v.contains("status") && v["status"].is_string() &&
+          std::find(statuses.begin(), statuses.end(), v["status"].get<std::string>()) == statuses.end())
+        statuses.push_back(v["status"].get<std::string>());
   std::string csv = "id";
   for (const auto& [key, values] : vary.items()) csv += "," + key;
   csv += ",status";
   for (std::string p : paths) csv += "," + (std::replace(p.begin(), p.end(), '.', '_'), p);
+  for (std::string s : statuses) {
+    std::replace(s.begin(), s.end(), '.', '_');
+    csv += "," + s + "_found," + s + "_reason";
+  }
   csv += ",warnings\n";
   for (const json& j : table["jobs"]) {
     csv += std::to_string(j["id"].get<long long>());
@@ -230,6 +242,13 @@ int run_sweep(httplib::Client& http, const Args& a) {
       char text[40] = "";
       if (const auto v = api::number_at_path(j, p)) std::snprintf(text, sizeof text, "%.9g", *v);
       csv += std::string(",") + text;
+    }
+    for (const std::string& s : statuses) {
+      const json* group = api::value_at_path(j, s);
+      const bool judged = group && group->is_object() && group->contains("found") && (*group)["found"].is_boolean();
+      const auto reason = api::missing_reason(j, s);
+      csv += std::string(",") + (judged ? ((*group)["found"].get<bool>() ? "true" : "false") : "") + "," +
+             (reason ? csv_cell(json(*reason)) : "");
     }
     csv += "," + std::to_string(j.value("warnings", json::array()).size()) + "\n";
     const std::string id = std::to_string(j["id"].get<long long>());

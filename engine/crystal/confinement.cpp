@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -26,6 +27,29 @@ void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r) {
                       " steps without reaching equilibrium (platen stresses " + std::to_string(r.stress_top) + " and " +
                       std::to_string(r.stress_bottom) + " Pa, kinetic/elastic energy " +
                       std::to_string(r.kinetic_elastic_ratio) + "): what follows started from a sample not at rest");
+}
+
+namespace {
+std::string confinement_failure(const ConfinementReport& r, const CrystalSampleParams& p) {
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "confinement failed: after %llu steps (the cap, max_confinement_steps) the platens carry %.4g and "
+                "%.4g kPa against p0 = %.4g kPa, the packing %.4g and %.4g kPa laterally, and the kinetic energy is "
+                "%.2g of the elastic energy (equilibrium: platens within %.3g %% of p0 and kinetic/elastic below %.2g "
+                "at %d checks in a row); a sample not at rest is not loaded, so this job reports no result "
+                "(docs/model.md, \"Confinement\")",
+                static_cast<unsigned long long>(r.steps), r.stress_top / 1e3, r.stress_bottom / 1e3,
+                p.confining_pressure / 1e3, r.lateral_stress_x / 1e3, r.lateral_stress_y / 1e3,
+                r.kinetic_elastic_ratio, 100 * p.equilibrium_tolerance, p.kinetic_tolerance, p.equilibrium_checks);
+  return text;
+}
+}  // namespace
+
+ConfinementFailed::ConfinementFailed(const ConfinementReport& r, const CrystalSampleParams& p)
+    : std::runtime_error(confinement_failure(r, p)) {}
+
+void require_confined(const ConfinementReport& r, const CrystalSampleParams& p) {
+  if (!r.converged && p.require_equilibrium) throw ConfinementFailed(r, p);
 }
 
 double confinement_progress_steps(const CrystalSample& sample) {

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 
 #include "engine/crystal/crystal_sample.h"
 #include "engine/framework/result_sink.h"
@@ -25,6 +26,15 @@ struct ConfinementReport {
   double lateral_stress_y = 0;       ///< (Pa)
   double kinetic_elastic_ratio = 0;  ///< at the end (-)
 };
+
+/// A confinement that did not reach equilibrium: what follows would load a sample not at rest, and its numbers would
+/// look like results (a simple cubic crystal along [1 1 0] whose platens stopped at 19 of 30 kPa reported a first
+/// yield of 1.0 p0 at 0 % strain). The job fails with this, the numbers it reached in the message.
+struct ConfinementFailed : std::runtime_error {
+  ConfinementFailed(const ConfinementReport& r, const CrystalSampleParams& p);
+};
+/// Throws ConfinementFailed unless the report converged (or the sample's params.require_equilibrium is off).
+void require_confined(const ConfinementReport& r, const CrystalSampleParams& p);
 
 /// Writes the report as the summary group "confinement".
 void write_confinement(SummaryWriter& w, const ConfinementReport& r);

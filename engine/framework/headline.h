@@ -41,6 +41,10 @@ struct KeyValue {
   /// there (SI), where the picture marks it.
   const char* at_x = nullptr;
   const char* at_y = nullptr;
+  /// When it may not exist (a first yield of a crystal that never yields): the dotted path of the summary group
+  /// that says so, {"found": false, "reason": "none to 1 % strain (...)"} (curve_peak.h). Readers show the reason,
+  /// never a number, where found is false.
+  const char* status = nullptr;
 };
 
 /// A summary list of groups worth showing as a table, e.g. a crystal's load-unload cycles.

@@ -90,10 +90,12 @@ void mount_sweep_routes(Router& router, const RouteContext& c) {
       // The key values of its experiment's headline, each with the summary group it belongs to.
       if (!j.summary_json.empty()) {
         const json summary = json::parse(j.summary_json, nullptr, false);
-        for (const KeyValue& v : pictures::headline_for(parsed_or_null(j.spec_json)).values) {
-          const std::string key = std::string(v.key).substr(0, std::string(v.key).find('.'));
-          if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
-        }
+        for (const KeyValue& v : pictures::headline_for(parsed_or_null(j.spec_json)).values)
+          for (const char* path : {v.key, v.status}) {  // the value's group, and the one saying whether it was found
+            if (!path) continue;
+            const std::string key = std::string(path).substr(0, std::string(path).find('.'));
+            if (summary.is_object() && summary.contains(key)) item[key] = summary[key];
+          }
       }
       ++counts[api::status_name(j.status)];
       jobs.push_back(item);

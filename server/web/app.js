@@ -135,10 +135,19 @@ function latestText(latest, headline, at = () => undefined) {
 // The headline's key values of a summary (or a sweep's job item, which holds the same groups).
 function keyValues(headline, summary, at) {
   if (!headline || !summary) return [];
-  return headline.values.filter((v) => typeof lookup(summary, v.key) === "number").map((v) => {
+  return headline.values.filter((v) => missingReason(summary, v) !== undefined || typeof lookup(summary, v.key) === "number").map((v) => {
+    const missing = missingReason(summary, v);
+    if (missing !== undefined) return v.label + ": " + missing;
     const where = v.at_x && typeof lookup(summary, v.at_x) === "number" ? " at " + reading(headline.x, lookup(summary, v.at_x), at) : "";
     return v.label + " " + fmt(lookup(summary, v.key)) + (v.unit === "-" ? "" : " " + v.unit) + where;
   });
+}
+// When a key value's status group says it was not found (a crystal that never yields has no first yield), the reason
+// it gives ("none to 1 % strain: ..."); undefined when it was found or may not be missing.
+function missingReason(summary, v) {
+  const group = v.status ? lookup(summary, v.status) : undefined;
+  if (!group || typeof group !== "object" || group.found !== false) return undefined;
+  return typeof group.reason === "string" ? group.reason : "none";
 }
 // A spec field's allowed range as it is: "(0, 0.5]" when the lower bound itself is not allowed, the upper bound
 // another field's value when it is one ("[0, loading.max_strain]"), "each in" for a list's values; "" for none.
@@ -339,7 +348,9 @@ async function sweepView(id) {
         ...keys.map((k) => el("td", { class: "num" }, JSON.stringify(j.values[k]))),
         el("td", {}, statusCell(j.status), warningMark(j.warnings), j.error ? el("div", { class: "error" }, j.error) : null),
         el("td", {}, progressBar(j), j.latest ? el("div", { class: "hint" }, latestText(j.latest, headline.x ? headline : null, at(j))) : null),
-        ...headline.values.map((v) => el("td", { class: "num" }, typeof lookup(j, v.key) === "number"
+        ...headline.values.map((v) => missingReason(j, v) !== undefined
+          ? el("td", { class: "hint", title: missingReason(j, v) }, "none", el("div", { class: "hint" }, missingReason(j, v)))
+          : el("td", { class: "num" }, typeof lookup(j, v.key) === "number"
           ? fmt(lookup(j, v.key)) + (v.at_x && typeof lookup(j, v.at_x) === "number" ? " at " + reading(headline.x, lookup(j, v.at_x), at(j)) : "")
           : "")))));
     return anyLive;

@@ -237,6 +237,37 @@ class RemoteCliTest(unittest.TestCase):
         self.assertEqual(made.returncode, 1, made.stderr)
         self.assertIn("HTTP 400: 'vary.loading.axis' value [13,0,0]", made.stderr)
 
+    def test_a_crystal_that_never_yields_has_no_first_yield(self):
+        # Cubes stacked along [0 0 1] have no plane to slide on: the deviator rises to the end (issue 51). No number
+        # may pass for a first yield or a peak: the summary, the sweep's JSON, sweep.csv and the watch line say none.
+        path = os.path.join(self.dir, "sc-locked.json")
+        with open(path, "w") as f:
+            json.dump(SC, f)
+        out = os.path.join(self.dir, "locked-sweep")
+        made = self.cli("sweep", path, "--vary", "loading.confining_pressure=30000,40000", "--out", out)
+        self.assertEqual(made.returncode, 0, made.stderr)
+        self.assertRegex(made.stderr, r"first yield: none to 0\.05\d? % strain \(no drop after its largest, \d+\.?\d* p0\)")
+        with open(os.path.join(out, "sweep.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 2, rows)
+        for row in rows:
+            self.assertEqual(row["status"], "succeeded", row)
+            for group in ("first_yield", "peak"):
+                self.assertEqual(row[group + "_found"], "false", row)
+                self.assertTrue(row[group + "_reason"].startswith("none to 0.05"), row)
+                self.assertEqual(row[group + "_deviator_over_p0"], "", row)
+                self.assertEqual(row[group + "_strain"], "", row)
+            job = json.loads(self.cli("status", row["id"], "--json").stdout)
+            summary = job["summary"]
+            self.assertEqual(set(summary["first_yield"]), {"found", "reason"}, summary["first_yield"])
+            self.assertFalse(summary["peak"]["found"])
+            self.assertGreater(summary["apparent_modulus"]["affine_axial"], 0)
+        client = Client(self.server, token=self.token)
+        sweep = re.search(r"sweep (\d+): 2 jobs", made.stderr).group(1)
+        for item in client.sweep(sweep)["jobs"]:
+            self.assertEqual(item["first_yield"]["found"], False, item)
+            self.assertNotIn("deviator_over_p0", item["first_yield"])
+
 
 class DemoScriptTest(unittest.TestCase):
     """`make run`'s clients/demo.sh: Ctrl-C or a TERM (here to its whole process group, as a terminal sends it, while

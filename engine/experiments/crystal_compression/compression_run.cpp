@@ -126,6 +126,7 @@ void CrystalCompression::confine_and_begin(Run& run) {
     std::tie(c.lateral_stress_x, c.lateral_stress_y) = sample_.lateral_stresses();
   } else {
     run.r.confinement = granulab::confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
+    require_confined(run.r.confinement, sample_.params());
     if (params_.confinement == Confinement::fixed_forces) sample_.fix_confining_forces();
   }
   // Reference state for strains, displacements and lateral strains.

@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
+#include "engine/analysis/apparent_modulus.h"
+#include "engine/analysis/curve_peak.h"
 #include "engine/analysis/loading_cycles.h"
 #include "engine/analysis/stress_drops.h"
+#include "engine/crystal/affine_stiffness.h"
 #include "engine/crystal/sample_parameters.h"
 #include "engine/framework/energy_report.h"
 #include "engine/experiments/crystal_compression/quasi_static_quality.h"
@@ -20,6 +24,7 @@ struct CrystalSummary : ExperimentResult {
   CrystalResult r;
   CrystalParams params;
   double p0 = 0;  // Pa
+  double affine_modulus = 0;  // Pa, the affine tensor's Young's modulus along the axis (affine_stiffness.h)
   std::optional<YieldEstimate> estimate;
 
   void write_summary(SummaryWriter& w) const override {
@@ -31,24 +36,33 @@ struct CrystalSummary : ExperimentResult {
     w.number("initial_length", r.initial_length, "m");
     w.number("cross_section", r.cross_section, "m^2");
     write_confinement(w, r.confinement);
-    // The paper does not say whether its sigma_y ~ 7 p0 is the total axial stress or the deviator: both.
-    const auto [yield_strain, yield_deviator] = first_yield_peak(r.curve, p0);
-    double peak = 0, peak_strain = 0;
-    for (const CrystalRow& row : r.curve)
-      if (row.deviator > peak) peak = row.deviator, peak_strain = row.strain;
-    auto stress_point = [&](const char* key, double strain, double deviator, bool against_estimate) {
-      w.begin_group(key);
-      w.number("strain", strain, "-");
-      w.number("deviator", deviator, "Pa");
-      w.number("deviator_over_p0", p0 > 0 ? deviator / p0 : 0.0, "-");
-      w.number("axial_over_p0", p0 > 0 ? (deviator + p0) / p0 : 0.0, "-");
-      // sigma1 measured over the rigid-grain estimate's (yield_estimate.h), when the run yielded and it found one
-      if (against_estimate && estimate && estimate->found && deviator > 0 && p0 > 0)
-        w.number("over_estimate", (deviator + p0) / p0 / estimate->axial_over_p0, "-");
+    // The paper does not say whether its sigma_y ~ 7 p0 is the total axial stress or the deviator: both. A crystal
+    // that never yields (or never falls from its largest deviator) has no first yield (or peak): found false, and
+    // why, never the last row's numbers.
+    std::vector<double> strain, deviator;
+    for (const CrystalRow& row : r.curve) strain.push_back(row.strain), deviator.push_back(row.deviator);
+    const double reached = strain.empty() ? 0.0 : *std::max_element(strain.begin(), strain.end());
+    const CurvePeak first = first_peak(deviator, 0.1 * p0, 0.02);
+    const CurvePeak highest = highest_peak(deviator, 0.1 * p0, 0.02);
+    auto stress_point = [&](const char* key, const CurvePeak& peak, bool against_estimate) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.3g p0", p0 > 0 ? peak.highest / p0 : 0.0);
+      if (begin_curve_peak(w, key, peak, missing_peak_reason(peak, percent_text(reached) + " strain", text))) {
+        const double dev = peak.value;
+        w.number("strain", strain[peak.row], "-");
+        w.number("deviator", dev, "Pa");
+        w.number("deviator_over_p0", p0 > 0 ? dev / p0 : 0.0, "-");
+        w.number("axial_over_p0", p0 > 0 ? (dev + p0) / p0 : 0.0, "-");
+        // sigma1 measured over the rigid-grain estimate's (yield_estimate.h), when the run yielded and it found one
+        if (against_estimate && estimate && estimate->found && dev > 0 && p0 > 0)
+          w.number("over_estimate", (dev + p0) / p0 / estimate->axial_over_p0, "-");
+      }
       w.end_group();
     };
-    stress_point("first_yield", yield_strain, yield_deviator, true);
-    stress_point("peak", peak_strain, peak, false);
+    stress_point("first_yield", first, true);
+    stress_point("peak", highest, false);
+    write_apparent_modulus(w, apparent_modulus(strain, deviator, first.found ? first.value : highest.highest), p0,
+                           "over_p0", affine_modulus, first.found ? "first yield" : "largest deviator");
     if (estimate) write_yield_estimate(w, *estimate);
     w.begin_list("snapshots");
     for (std::size_t k = 0; k < r.snapshots.size(); ++k) {
@@ -60,7 +74,7 @@ struct CrystalSummary : ExperimentResult {
       w.end_group();
     }
     w.end_list();
-    write_program(w);
+    write_program(w, strain, deviator);
     double loading = 0;  // the strain the platen compressed over, all segments
     for (const SegmentRecord& s : r.segments)
       if (s.direction > 0 && s.last_row < r.curve.size())
@@ -83,8 +97,6 @@ struct CrystalSummary : ExperimentResult {
     w.begin_list("warnings");
     write_confinement_warning(w, r.confinement);
     for (const std::string& warning : quality.warnings) w.text(nullptr, warning);
-    double reached = 0;
-    for (const CrystalRow& row : r.curve) reached = std::max(reached, row.strain);
     if (const std::string missed = missed_snapshots_warning(params.snapshot_strains, r.snapshots, reached); !missed.empty())
       w.text(nullptr, missed);
     w.end_list();
@@ -106,9 +118,7 @@ struct CrystalSummary : ExperimentResult {
   }
 
   // The program's segments as run, and its load-unload cycles (loading_cycles.h).
-  void write_program(SummaryWriter& w) const {
-    std::vector<double> strain, deviator;
-    for (const CrystalRow& row : r.curve) strain.push_back(row.strain), deviator.push_back(row.deviator);
+  void write_program(SummaryWriter& w, const std::vector<double>& strain, const std::vector<double>& deviator) const {
     std::vector<CurveSegment> spans;
     w.begin_list("segments");
     for (std::size_t k = 0; k < r.segments.size(); ++k) {
@@ -248,8 +258,9 @@ Headline CrystalCompressionExperiment::headline() const {
           {"axial strain", {100, "%"}, {100, "%"}},
           {"stress", per_p0, {1e-3, "kPa"}},
           {{"deviator", "deviator"}, {"top platen", "stress_top"}, {"bottom platen", "stress_bottom"}},
-          {{"first_yield.deviator_over_p0", "first yield", "p0", "first_yield.strain", "first_yield.deviator"},
-           {"peak.deviator_over_p0", "peak", "p0", "peak.strain", "peak.deviator"}},
+          {{"first_yield.deviator_over_p0", "first yield", "p0", "first_yield.strain", "first_yield.deviator",
+            "first_yield"},
+           {"peak.deviator_over_p0", "peak", "p0", "peak.strain", "peak.deviator", "peak"}},
           {{"segments", "loading segments"}, {"cycles", "load-unload cycles"}},
           {},
           "platen stresses include p0",
@@ -295,6 +306,7 @@ std::unique_ptr<ExperimentResult> CrystalCompressionExperiment::run(ResultSink& 
   out->p0 = params.confining_pressure;
   out->params = params;
   out->estimate = yield_estimate();
+  out->affine_modulus = affine_axial_modulus(params);
   return out;
 }
 

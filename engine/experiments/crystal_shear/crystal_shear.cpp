@@ -243,6 +243,7 @@ void CrystalShear::confine_and_begin(Run& run) {
     return run.sink.progress(run.share * std::min(1.0, steps / run.confinement_steps));
   };
   run.r.confinement = confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
+  require_confined(run.r.confinement, sample_.params());
   World& world = sample_.world();
   Bodies& bodies = world.bodies();
   EndLayers grips = grip_end_layers(sample_);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
+#include "engine/analysis/apparent_modulus.h"
+#include "engine/analysis/curve_peak.h"
 #include "engine/analysis/slip_bands.h"
 #include "engine/crystal/sample_parameters.h"
 #include "engine/framework/energy_report.h"
@@ -49,8 +52,17 @@ struct ShearSummary : ExperimentResult {
     std::vector<ShearRow> first;
     if (!r.curve.empty()) first.assign(r.curve.begin() + std::min(from, last), r.curve.begin() + last + 1);
     const std::size_t peak = first.empty() ? 0 : shear_peak_row(first);
-    w.begin_group("peak");
-    if (!first.empty()) {
+    // A peak only where |tau / sigma_n| falls 2 % below its running maximum afterwards (curve_peak.h): a slab still
+    // hardening at the end of its travel has none.
+    std::vector<double> ratio;
+    for (const ShearRow& row : first) ratio.push_back(std::abs(row.shear_over_normal));
+    double largest = 0;
+    for (double x : ratio) largest = std::max(largest, x);
+    const CurvePeak found = first_peak(ratio, 0.1 * largest, 0.02);
+    char text[64];
+    std::snprintf(text, sizeof text, "|tau / sigma_n| %.3g", found.highest);
+    const double travel = first.empty() ? 0.0 : std::abs(first.back().shear_strain - first.front().shear_strain);
+    if (begin_curve_peak(w, "peak", found, missing_peak_reason(found, percent_text(travel) + " shear strain", text))) {
       const ShearRow& p = first[peak];
       w.number("shear_strain", p.shear_strain, "-");
       w.number("shear_over_normal", p.shear_over_normal, "-");
@@ -61,6 +73,15 @@ struct ShearSummary : ExperimentResult {
         w.number("over_estimate", std::abs(p.shear_over_normal) / estimate->shear_over_normal, "-");
     }
     w.end_group();
+    std::vector<double> gamma;
+    for (const ShearRow& row : first) gamma.push_back(std::abs(row.shear_strain - first.front().shear_strain));
+    std::vector<double> tau;
+    for (const ShearRow& row : first) tau.push_back(std::abs(row.shear_stress));
+    double largest_tau = 0;
+    for (double x : tau) largest_tau = std::max(largest_tau, x);
+    const double tau_reference = found.found ? std::abs(first[peak].shear_stress) : largest_tau;
+    write_apparent_modulus(w, apparent_modulus(gamma, tau, tau_reference), params.normal_stress, "over_normal_stress",
+                           0.0, found.found ? "peak" : "largest shear stress");
     // Residual: the mean over the last quarter of that segment's travel.
     const double start = first.empty() ? 0 : first.front().shear_strain, end = first.empty() ? 0 : first.back().shear_strain;
     const double quarter = start + 0.75 * (end - start);
@@ -227,7 +248,7 @@ Headline CrystalShearExperiment::headline() const {
              {"shear strain", {100, "%"}, {100, "%"}},
              {"shear stress", {1, "sigma_n", "loading.normal_stress"}, {1e-3, "kPa"}},
              {{"top layer", "shear_stress"}},
-             {{"peak.shear_over_normal", "peak tau / sigma_n", "-", "peak.shear_strain", "peak.shear_stress"},
+             {{"peak.shear_over_normal", "peak tau / sigma_n", "-", "peak.shear_strain", "peak.shear_stress", "peak"},
               {"residual.shear_over_normal", "residual tau / sigma_n", "-"},
               {"dilation_angle", "dilation angle at the peak", "deg"}},
              {{"segments", "loading segments"}},

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "engine/analysis/elastic_tensor.h"
+#include "engine/crystal/affine_stiffness.h"
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
 #include "engine/framework/result_sink.h"
@@ -81,9 +82,6 @@ double stiffness_nonlinearity(const std::vector<StiffnessRow>& rows, int set);
 /// |sigma back at zero| / |sigma(+) - sigma(-)|, the largest over the components (-): 0 when reversible.
 double stiffness_hysteresis(const std::vector<StiffnessRow>& rows, int set);
 
-/// The affine face-spring prediction for the sample's lattice and grain (crystal frame, Pa; face_springs.h): each face
-/// N_f aligned pairs, N_f the sphere pairs that touch the neighbour across it (touching_pairs).
-Voigt affine_prediction(const CrystalSampleParams& p);
 /// The sample's largest extent (m) and the steps of the two sets' ramps and holds, expected and at most.
 struct StiffnessSchedule {
   double size = 0, transit_steps = 0, ramp_steps = 0, check_steps = 0, expected_steps = 0, max_steps = 0;

@@ -191,6 +191,7 @@ void CrystalTension::confine_and_grip(Run& run) {
     return run.sink.progress(run.share * std::min(1.0, steps / run.confinement_steps));
   };
   run.r.confinement = confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
+  require_confined(run.r.confinement, sample_.params());
   World& world = sample_.world();
   EndLayers grips = grip_end_layers(sample_, params_.grip_depth * params_.grain.size);
   grip_[0] = std::move(grips.layer[0]), grip_[1] = std::move(grips.layer[1]);

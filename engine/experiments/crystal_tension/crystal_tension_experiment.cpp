@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
+#include "engine/analysis/curve_peak.h"
 #include "engine/analysis/slip_bands.h"
 #include "engine/crystal/sample_parameters.h"
 #include "engine/framework/energy_report.h"
@@ -35,11 +37,25 @@ struct TensionSummary : ExperimentResult {
     w.count("top", std::uint64_t(r.grip_layers[1]));
     w.end_group();
     write_confinement(w, r.confinement);
-    // The largest tension the crystal carried, tracked every step; none (0) when it never pulled on its grips.
-    w.number("tensile_strength", r.peak.stress, "Pa");
-    w.number("tensile_strength_over_p0", r.peak.stress / params.confining_pressure, "-");
-    w.number("failure_strain", r.peak.strain, "-");
-    w.count("failure_step", r.peak.step);
+    // The largest tension the crystal carried, tracked every step. It is a strength only when the crystal failed:
+    // it came apart, or its tension fell 2 % below that largest value afterwards. A crystal still holding (or still
+    // stiffening) at max_strain has none, and says so (curve_peak.h), rather than report its last tension.
+    const double last = r.curve.empty() ? 0.0 : r.curve.back().tensile_stress;
+    CurvePeak failure;
+    failure.found = r.peak.stress > 0 && (r.apart || last < 0.98 * r.peak.stress);
+    failure.value = failure.highest = r.peak.stress;
+    char text[96];
+    std::snprintf(text, sizeof text, "still holding %.3g kPa (its largest %.3g kPa)", last / 1e3, r.peak.stress / 1e3);
+    const std::string reason = r.peak.stress > 0 ? "none to " + percent_text(params.max_strain) + " strain: " + text
+                                                 : "none: the crystal never pulled on its grips";
+    if (begin_curve_peak(w, "failure", failure, reason)) w.count("step", r.peak.step);
+    w.end_group();
+    if (failure.found) {
+      w.number("tensile_strength", r.peak.stress, "Pa");
+      w.number("tensile_strength_over_p0", r.peak.stress / params.confining_pressure, "-");
+      w.number("failure_strain", r.peak.strain, "-");
+      w.count("failure_step", r.peak.step);
+    }
     w.text("stopped", r.apart ? "apart" : "max_strain");
     w.number("initial_stress", r.curve.empty() ? 0.0 : r.curve.front().tensile_stress, "Pa");
     w.begin_group("failure_plane");
@@ -118,8 +134,8 @@ Headline CrystalTensionExperiment::headline() const {
                   {"axial strain", {100, "%"}, {100, "%"}},
                   {"tensile stress", {1e-3, "kPa"}, {1e-3, "kPa"}},
                   {{"top grip", "tensile_stress"}, {"bottom grip", "tensile_stress_bottom"}},
-                  {{"tensile_strength", "tensile strength", "Pa", "failure_strain", "tensile_strength"},
-                   {"failure_strain", "strain at failure", "-"}},
+                  {{"tensile_strength", "tensile strength", "Pa", "failure_strain", "tensile_strength", "failure"},
+                   {"failure_strain", "strain at failure", "-", nullptr, nullptr, "failure"}},
                   {},
                   {},
                   "the contact force the grips receive along the axis over the cross-section, tension positive",
