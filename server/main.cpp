@@ -4,11 +4,14 @@
 // After a kill -9, jobs found `running` at the next start are re-queued the same way.
 #include <unistd.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -54,7 +57,8 @@ const char* kUsage =
     "                        from there (0: never, jobs restart from zero)\n"
     "  --tls-cert, --tls-key: PEM certificate (chain) and key; the daemon then speaks HTTPS only (TLS 1.2+)\n"
     "  --speed-probe-seconds: at start, before any job runs, step a small crystal this long to learn this\n"
-    "                         machine's speed for the dry runs' expected time (0: no probe)\n"
+    "                         machine's speed for the dry runs' expected time, and again while no job runs\n"
+    "                         (30 s later, doubling up to every 5 min; the best of 6 hours counts; 0: no probe)\n"
     "  --max-memory, --max-sphere-steps: a job whose estimate (docs/api.md, 'Budgets') is over is refused\n"
     "  --token-file: lines '<user> <token or sha256:hash> [admin]'; then every route but /v1/health needs\n"
     "                'Authorization: Bearer <token>', and only a job's owner or an admin may change it;\n"
@@ -343,6 +347,23 @@ int main(int argc, char** argv) {
       machine_speed.measure();
       pool.start();
     });
+    // Then the probe again while this machine runs no job (server/machine_speed.h), so that a load at start does
+    // not stay in every dry run; a cluster's jobs run elsewhere, so its daemon reads the probe once.
+    std::mutex refresher_mutex;
+    std::condition_variable refresher_wake;
+    bool stopping = false;
+    std::thread refresher([&] {
+      std::unique_lock<std::mutex> lock(refresher_mutex);
+      while (!on_slurm && !refresher_wake.wait_for(lock, std::chrono::seconds(5), [&] { return stopping; })) {
+        lock.unlock();
+        try {
+          machine_speed.refresh(store.count(JobStatus::running) == 0 && store.count(JobStatus::queued) == 0);
+        } catch (const std::exception& e) {
+          spdlog::warn("speed probe: could not read the queue ({}); the next try is in 5 s", e.what());
+        }
+        lock.lock();
+      }
+    });
     std::thread signal_waiter([&] {
       for (int sig = 0; sigwait(&signals, &sig) == 0;) {
         if (sig != SIGHUP) {
@@ -362,6 +383,12 @@ int main(int argc, char** argv) {
         options.tokens.empty() ? "open" : std::to_string(options.tokens.size()) + " token(s)", tls ? "https" : "http",
         host, bound);
     http.serve();
+    {
+      std::lock_guard<std::mutex> lock(refresher_mutex);
+      stopping = true;
+    }
+    refresher_wake.notify_all();
+    refresher.join();
     starter.join();
     pool.stop();
     // Jobs interrupted by the stop go back to the queue now, so the file says what will happen to them.
