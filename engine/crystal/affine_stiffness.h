@@ -1,5 +1,5 @@
 // The affine elastic tensor of a crystal sample from its faces as springs (face_springs.h; derived in
-// docs/derivations/affine_stiffness.md): what crystal_stiffness measures against, and the upper bound a compression
+// docs/derivations/affine_stiffness.md): what the stiffness experiment measures against, and the upper bound a compression
 // reports beside its apparent modulus (every grain following the strain, no face opening or sliding).
 #pragma once
 
