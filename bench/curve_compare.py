@@ -52,7 +52,7 @@ def main():
     windows = list(zip(edges[:-1], edges[1:]))
     ref_summary, ref = load(args.reference)
     ref_windows = [window_mean(ref["strain"], ref["deviator"], lo, hi) for lo, hi in windows]
-    ref_yield = ref_summary["first_yield"]["deviator"]
+    ref_yield = ref_summary["first_yield"].get("deviator", float("nan"))
     head = ["run", "steps", "ms / step", "wall (s)", "first yield"] + [
         "%g-%g %%" % (100 * lo, 100 * hi) for lo, hi in windows] + ["top - bottom", "largest"]
     print("| " + " | ".join(head) + " |")
@@ -67,7 +67,7 @@ def main():
             cells += ["%.3f p0" % (ref_yield / s["spec"]["loading"]["confining_pressure"])] + [""] * len(windows)
             cells += ["%.2f %%" % (100 * tb), ""]
         else:
-            diffs = [s["first_yield"]["deviator"] / ref_yield - 1]
+            diffs = [s["first_yield"].get("deviator", float("nan")) / ref_yield - 1]
             cells.append("%+.2f %%" % (100 * diffs[0]))
             for (lo, hi), r in zip(windows, ref_windows):
                 m = window_mean(c["strain"], c["deviator"], lo, hi)

@@ -90,7 +90,7 @@ def main():
     ref_summary, ref_strain, ref_dev = results[args.reference]
     p0 = ref_summary["spec"]["loading"]["confining_pressure"]
     ref_windows = [window_mean(ref_strain, ref_dev, lo, hi) for lo, hi in WINDOWS]
-    ref_yield = ref_summary["first_yield"]["deviator"]
+    ref_yield = ref_summary["first_yield"].get("deviator", float("nan"))
     head = ["R / (p0/E)", "steps", "first yield (p0)", "vs ref"] + [
         "%g-%g %%" % (100 * lo, 100 * hi) for lo, hi in WINDOWS] + [
         "largest |difference|", "expected_bias (summary)", "platen imbalance rms", "KE / EE mean"]
@@ -98,7 +98,7 @@ def main():
     print("|" + " --- |" * len(head))
     for r in ratios:
         s, strain, dev = results[r]
-        y = s["first_yield"]["deviator"]
+        y = s["first_yield"].get("deviator", float("nan"))
         cells = ["%g" % r + (" (reference)" if r == args.reference else ""), "%d" % s["steps"], "%.3f" % (y / p0)]
         diffs = []
         cells.append("" if r == args.reference else "%+.2f %%" % (100 * (y / ref_yield - 1)))

@@ -59,8 +59,8 @@ def main():
             summary = json.load(f)
         table.append({"run": name, "size_dispersion": size, "misorientation_deg": tilt,
                       "modulus_MPa": apparent_modulus(os.path.join(out, "curve.csv")) / 1e6,
-                      "first_yield_over_p0": summary["first_yield"]["deviator_over_p0"],
-                      "first_yield_strain": summary["first_yield"]["strain"],
+                      "first_yield_over_p0": summary["first_yield"].get("deviator_over_p0", float("nan")),
+                      "first_yield_strain": summary["first_yield"].get("strain", float("nan")),
                       "confinement_steps": summary["confinement"]["steps"]})
     e0, y0 = table[0]["modulus_MPa"], table[0]["first_yield_over_p0"]
     for t in table:

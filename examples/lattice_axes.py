@@ -8,7 +8,8 @@ Runs one crystal_compression per case with `build/granulab run` (N_e = 4, kappa 
 f = 0.35, R = p0/E), each a box about W x W x 2W (W in cubic cells a, default 4: aspect
 ratio 2), then prints a markdown table (first yield, peak, apparent modulus; the box as built) and writes
 DIR/lattice_axes.csv and, with matplotlib (Debian: python3-matplotlib), DIR/lattice_axes.png, the curves.
-The apparent modulus is the secant of the deviator between 10 % and 40 % of the first yield, over strain.
+The apparent modulus is the summary's: the secant of the deviator between 10 % and 40 % of the first yield (of the
+largest deviator for a crystal that does not yield), over strain.
 Grain counts per direction come from the lattice's periods (the same rules as the engine's sample cut,
 docs/model.md "Lattices and loading axes"): x the repeat along the lateral direction, y the spacing of the
 site planes normal to y (HCP's A and B planes halve it), z the grain volume over the two.
@@ -150,18 +151,23 @@ def measures(directory):
     summary = json.load(open(os.path.join(directory, "summary.json")))
     curve = read_curve(directory)
     p0 = summary["spec"]["loading"]["confining_pressure"]
-    first = summary["first_yield"]["deviator"]
-    lo = [(float(r["strain"]), float(r["deviator"])) for r in curve if float(r["deviator"]) >= 0.1 * first]
-    hi = [(float(r["strain"]), float(r["deviator"])) for r in curve if float(r["deviator"]) >= 0.4 * first]
-    modulus = (hi[0][1] - lo[0][1]) / (hi[0][0] - lo[0][0]) if lo and hi and hi[0][0] > lo[0][0] else float("nan")
     crystal = summary["spec"]["crystal"]
     width = math.sqrt(summary["cross_section"])
+    first, peak, modulus = summary["first_yield"], summary["peak"], summary["apparent_modulus"]
+    highest = max(float(r["deviator"]) for r in curve)
+    highest_strain = next(float(r["strain"]) for r in curve if float(r["deviator"]) == highest)
     return {
         "grains": summary["grains"], "box": "%d x %d x %d" % (crystal["grains_x"], crystal["layers_y"], crystal["rows_z"]),
         "aspect": summary["initial_length"] / width,
-        "first_yield": summary["first_yield"]["deviator_over_p0"], "first_yield_strain": summary["first_yield"]["strain"],
-        "peak": summary["peak"]["deviator_over_p0"], "peak_strain": summary["peak"]["strain"],
-        "modulus_over_p0": modulus / p0, "seconds": summary.get("wall_seconds", float("nan")),
+        # A first yield or peak the curve never fell after is none (the summary says why), never its last row.
+        "first_yield": first.get("deviator_over_p0"), "first_yield_strain": first.get("strain"),
+        "first_yield_reason": first.get("reason"),
+        "peak": peak["deviator_over_p0"] if peak["found"] else highest / p0,
+        "peak_strain": peak["strain"] if peak["found"] else highest_strain,
+        # The summary's apparent modulus: the secant between 10 % and 40 % of the first yield (or of the largest
+        # deviator when there is none), docs/model.md.
+        "modulus_over_p0": modulus["over_p0"] if modulus["found"] else float("nan"),
+        "seconds": summary.get("wall_seconds", float("nan")),
         "steps": summary.get("steps", 0), "spheres": summary.get("spheres", 0), "curve": curve, "p0": p0,
     }
 
@@ -240,9 +246,8 @@ def main():
           "apparent modulus / p0 | time (s) |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for name, m in results:
-        # A first yield at the last row is no yield: the curve still rose there.
         last = float(m["curve"][-1]["strain"])
-        first = ("none to %.0f %%" % (100 * last) if m["first_yield_strain"] >= 0.98 * last else
+        first = ("none to %.0f %%" % (100 * last) if m["first_yield"] is None else
                  "%.2f (%.3f)" % (m["first_yield"], 100 * m["first_yield_strain"]))
         print("| %s | %s | %d | %.2f | %s | %.2f (%.2f) | %.0f | %.0f |" % (
             name, m["box"], m["grains"], m["aspect"], first, m["peak"], 100 * m["peak_strain"], m["modulus_over_p0"],
@@ -271,7 +276,7 @@ def print_estimates(rows):
         measured, ratio = "-", "-"
         if m:
             last = float(m["curve"][-1]["strain"])
-            if m["first_yield_strain"] < 0.98 * last:
+            if m["first_yield"] is not None:
                 measured = "%.2f" % (m["first_yield"] + 1)
                 if e["found"]:
                     ratio = "%.2f" % ((m["first_yield"] + 1) / e["axial_over_p0"])

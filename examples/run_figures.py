@@ -72,11 +72,11 @@ def summarise(results, out_dir, figure):
         smooth_strain, smooth_peak = max(smooth, key=lambda t: t[1])
         rows.append({
             "spec": name, "grains": summary["grains"], "p0": p0, "max_strain": strain[-1],
-            "first_yield_dev": summary["first_yield"]["deviator_over_p0"],
-            "first_yield_axial": summary["first_yield"]["axial_over_p0"],
-            "first_yield_strain": summary["first_yield"]["strain"],
-            "peak_dev": summary["peak"]["deviator_over_p0"], "peak_axial": summary["peak"]["axial_over_p0"],
-            "peak_strain": summary["peak"]["strain"],
+            "first_yield_dev": summary["first_yield"].get("deviator_over_p0", float("nan")),
+            "first_yield_axial": summary["first_yield"].get("axial_over_p0", float("nan")),
+            "first_yield_strain": summary["first_yield"].get("strain", float("nan")),
+            "peak_dev": summary["peak"].get("deviator_over_p0", float("nan")), "peak_axial": summary["peak"].get("axial_over_p0", float("nan")),
+            "peak_strain": summary["peak"].get("strain", float("nan")),
             "smoothed_peak_dev": smooth_peak, "smoothed_peak_strain": smooth_strain,
         })
     ref = rows[0]

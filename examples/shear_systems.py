@@ -106,8 +106,8 @@ def main():
             p = snaps[-1]["sliding_plane"]
             slip = "gap %d of %d, %.0f %%" % (p["gap"], s["layers"] - 1, 100 * p["share"])
         print("| %s | %d x %d x %d, %d | %.3f (%.2f) | %.3f | %.1f° | %s | %s | %s | %.0f |" % (
-            name, c["grains_x"], c["layers_y"], c["rows_z"], s["grains"], s["peak"]["shear_over_normal"],
-            100 * s["peak"]["shear_strain"], s["residual"]["shear_over_normal"], s["dilation_angle"], estimate, ratio,
+            name, c["grains_x"], c["layers_y"], c["rows_z"], s["grains"], s["peak"].get("shear_over_normal", float("nan")),
+            100 * s["peak"].get("shear_strain", float("nan")), s["residual"]["shear_over_normal"], s["dilation_angle"], estimate, ratio,
             slip, s["wall_seconds"]), flush=True)
 
 
