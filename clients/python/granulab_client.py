@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Standard-library-only Python client for the granulab lab server (granulabd).
 
-    from granulab_client import Client
+    from granulab_client import Client, key_values
     c = Client()                        # GRANULAB_SERVER or http://127.0.0.1:8080
     job = c.submit({"experiment": "two_cube_sliding"})
     c.wait(job)
     curve = c.curve(job)                # {"columns": [...], "<name>": [...], ...}
+    st = c.status(job)                  # "summary" once it succeeded
+    for label, value, unit, reason in key_values(st, c.headline(st["experiment"])):
+        print(label, reason if value is None else f"{value:.3g} {unit}")   # reason: "none to 1 % strain (...)"
 
 Command line (prints JSON, or CSV for `curve --csv`):
 
@@ -19,6 +22,7 @@ Requires Python >= 3.9 and nothing outside the standard library.
 """
 
 import argparse
+import collections
 import json
 import os
 import socket
@@ -29,7 +33,7 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
-__all__ = ["Client", "GranulabError", "DEFAULT_SERVER"]
+__all__ = ["Client", "GranulabError", "DEFAULT_SERVER", "KeyValue", "key_values"]
 
 DEFAULT_SERVER = "http://127.0.0.1:8080"
 TERMINAL = ("succeeded", "failed", "cancelled")
@@ -51,6 +55,57 @@ class GranulabError(Exception):
         if self.field:
             text += f" (field '{self.field}')"
         return text
+
+
+# -- key values ------------------------------------------------------------------------------------
+KeyValue = collections.namedtuple("KeyValue", "label value unit reason")
+KeyValue.__doc__ = """One key value of a job: its label, its number (None when there is none), its unit, and the
+reason there is none when the job's summary says it was not found (else None)."""
+
+
+def _at(obj, dotted):
+    """The value at a dotted path of nested dicts ("first_yield.strain"), or None."""
+    for key in dotted.split("."):
+        if not isinstance(obj, dict):
+            return None
+        obj = obj.get(key)
+    return obj
+
+
+def key_values(item, headline):
+    """A job's key values as its experiment's headline names them: a list of KeyValue(label, value, unit, reason),
+    one per headline value, in the headline's order (what the web page, `granulab wait` and sweep.csv show).
+
+    item: a job's status dict (Client.status(), Client.wait(): its "summary" is read) or one of a sweep's "jobs"
+    (Client.sweep(): it holds the same summary groups itself). headline: the experiment's "headline" from
+    GET /v1/experiments (Client.headline(name)), or the experiment's whole entry there.
+
+    value is the number at the value's key (a dotted summary path) in `unit` ("p0": per the spec's
+    loading.confining_pressure; "-": a ratio). A value that may not exist names a summary group in its
+    "status"; when that group says {"found": false}, value is None and reason is the group's reason, e.g.
+    "none to 0.053 % strain (no drop after its largest, 41.4 p0)": a crystal that never yields has no first
+    yield, and the largest stress reached is not one. A job with no such number yet (queued, running, failed,
+    cancelled) gives value and reason None.
+    """
+    if isinstance(headline, dict) and isinstance(headline.get("headline"), dict):
+        headline = headline["headline"]
+    if not isinstance(item, dict):
+        raise TypeError("key_values: item is a job's status dict or a sweep's job item")
+    # A job's status dict keeps its results under "summary" (absent until it succeeds); a sweep's item holds them.
+    summary = item.get("summary") if ("summary" in item or "spec" in item) else item
+    if not isinstance(summary, dict):
+        summary = {}
+    values = []
+    for v in (headline or {}).get("values", []):
+        group = _at(summary, v["status"]) if v.get("status") else None
+        if isinstance(group, dict) and group.get("found") is False:
+            reason = group.get("reason")
+            values.append(KeyValue(v["label"], None, v["unit"], reason if isinstance(reason, str) else "none"))
+            continue
+        number = _at(summary, v["key"])
+        found = isinstance(number, (int, float)) and not isinstance(number, bool)
+        values.append(KeyValue(v["label"], number if found else None, v["unit"], None))
+    return values
 
 
 class Client:
@@ -290,8 +345,16 @@ class Client:
         return self._request("GET", "/v1/health")
 
     def experiments(self):
-        """Every experiment the server runs: its spec fields (default, range, unit) and curve columns."""
+        """Every experiment the server runs: its spec fields (default, range, unit), curve columns and headline."""
         return self._request("GET", "/v1/experiments").get("experiments", [])
+
+    def headline(self, experiment):
+        """What `experiment` (its name) shows first, as GET /v1/experiments has it: its key values' labels, units
+        and summary paths among them (for key_values()). KeyError for a name the server does not run."""
+        for e in self.experiments():
+            if e.get("name") == experiment:
+                return e["headline"]
+        raise KeyError(f"the server runs no experiment named {experiment!r}")
 
 
 # -- command line ----------------------------------------------------------------------------------

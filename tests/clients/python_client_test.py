@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "clients", "python"))
 
-from granulab_client import Client, GranulabError  # noqa: E402
+from granulab_client import Client, GranulabError, KeyValue, key_values  # noqa: E402
 
 DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
 TINY = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3},
@@ -37,6 +37,12 @@ CRYSTAL = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
 # Three rows: its front face holds grains spread in x and z whatever rounding does to the confinement (2 x 2 x 2 can
 # settle with one grain in front, and a DIC map of a point).
 CRYSTAL_FACE = dict(CRYSTAL, crystal={"grains_x": 2, "rows_z": 3, "layers_y": 2})
+# Simple-cubic cubes loaded along [0 0 1]: columns of cubes carry the load face to face and never give way within
+# 0.05 % strain (about 0.1 s): no first yield and no peak, which the summary says with a reason (issue 51).
+LOCKED = {"experiment": "crystal_compression", "label": "sc locked", "grain": {"edge_spheres": 2},
+          "crystal": {"lattice": "sc", "grains_x": 2, "layers_y": 2, "rows_z": 3},
+          "loading": {"confining_pressure": 30000, "max_strain": 0.0005, "rate_number": 1e-3},
+          "output": {"curve_points": 4, "snapshot_strains": []}}
 CRYSTAL_COLUMNS = ["strain", "stress_top", "stress_bottom", "deviator", "lateral_strain_x", "lateral_strain_y",
                    "lateral_stress", "kinetic_elastic_ratio", "contacts", "sliding_contacts", "segment",
                    "platen_work", "confinement_work", "elastic_energy", "friction_dissipation", "damping_dissipation",
@@ -346,6 +352,42 @@ class PythonClientTest(unittest.TestCase):
                 sys.modules["pandas"] = saved
             else:
                 sys.modules.pop("pandas", None)
+
+    # -- key values ------------------------------------------------------------------------------------
+    def test_key_values_say_none_and_why_for_a_crystal_that_never_yields(self):
+        headline = self.client.headline("crystal_compression")
+        labels = [v["label"] for v in headline["values"]]
+        self.assertIn("first yield", labels)
+        locked_sweep, locked = self.client.submit_sweep(LOCKED, {"loading.confining_pressure": [20000, 30000]})
+        # CRYSTAL_FACE (about 0.1 s) yields: its curve falls after a first yield near 2.5 p0.
+        yielding_sweep, (yielding,) = self.client.submit_sweep(CRYSTAL_FACE, {"material.friction": [0.35]})
+        final = self.client.wait_all(locked + [yielding], timeout=60, poll=0.1)
+        self.assertEqual({job: st["status"] for job, st in final.items()}, dict.fromkeys(locked + [yielding], "succeeded"))
+        items = {j["id"]: j for sweep in (locked_sweep, yielding_sweep) for j in self.client.sweep(sweep)["jobs"]}
+        for job in locked:
+            summary = final[job]["summary"]
+            values = key_values(final[job], headline)
+            self.assertEqual([v.label for v in values], labels)
+            for v, spec_value in zip(values, headline["values"]):
+                group = summary[spec_value["status"]]
+                self.assertIs(group["found"], False)
+                self.assertEqual(v, KeyValue(spec_value["label"], None, spec_value["unit"], group["reason"]))
+                self.assertRegex(v.reason, r"^none to [0-9.]+ % strain")
+            # A sweep's item holds the same groups: the same key values.
+            self.assertEqual(key_values(items[job], headline), values)
+        st = final[yielding]
+        first = key_values(st, headline)[labels.index("first yield")]
+        self.assertIs(st["summary"]["first_yield"]["found"], True)
+        self.assertEqual(first, ("first yield", st["summary"]["first_yield"]["deviator_over_p0"], "p0", None))
+        self.assertIsInstance(first.value, float)
+        self.assertEqual(key_values(items[yielding], headline), key_values(st, headline))
+        # The experiment's whole entry serves as well as its headline; a job without a summary has no values yet.
+        entry = {e["name"]: e for e in self.client.experiments()}["crystal_compression"]
+        self.assertEqual(key_values(st, entry), key_values(st, headline))
+        self.assertEqual(key_values({"id": 1, "status": "queued", "spec": LOCKED}, headline),
+                         [(v["label"], None, v["unit"], None) for v in headline["values"]])
+        with self.assertRaises(KeyError):
+            self.client.headline("no_such_experiment")
 
     # -- snapshot files and the archive ----------------------------------------------------------------
     def test_snapshot_files_and_archive(self):

@@ -3,7 +3,8 @@
 pipe): it lists submitted jobs with their status and keeps them live, shows a job's curve and snapshot
 sections, a sweep's overlaid curves and table (a long legend drawn inside the picture), reports a bad field
 next to that field and submits a good spec (a field's allowed values as a menu, its range as it is: "(0, 1]"),
-and asks for a token once on a server that needs one.
+asks for a token once on a server that needs one, and shows "none" and why, never a number, where a crystal has no
+first yield (the job's key values, its picture's legend, the sweep's table).
 
 Standard library only. The daemon comes from $GRANULABD (set by CTest) or build/granulabd; Chromium from
 $CHROMIUM or /usr/bin/chromium (the test is skipped, loudly, when there is none).
@@ -19,6 +20,7 @@ import tempfile
 import time
 import unittest
 import urllib.request
+import xml.etree.ElementTree as ET
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -32,6 +34,12 @@ CRYSTAL = {"experiment": "crystal_compression", "grain": {"shape": "rhombic_dode
            "loading": {"confining_pressure": 30000, "max_strain": 0.004, "rate_number": 1e-4},
            "run": {"time_step_factor": 0.4},
            "output": {"curve_points": 40, "snapshot_strains": [0, 0.004]}, "label": "web crystal"}
+# Simple-cubic cubes loaded along [0 0 1] (about 0.1 s): columns of cubes carry the load face to face and never give
+# way, so the curve never falls: no first yield and no peak, each with its reason (issue 51).
+LOCKED = {"experiment": "crystal_compression", "label": "sc locked", "grain": {"edge_spheres": 2},
+          "crystal": {"lattice": "sc", "grains_x": 2, "layers_y": 2, "rows_z": 3},
+          "loading": {"confining_pressure": 30000, "max_strain": 0.0005, "rate_number": 1e-3},
+          "output": {"curve_points": 4, "snapshot_strains": []}}
 
 
 def free_port():
@@ -65,6 +73,13 @@ class Daemon:
             request.add_header("Authorization", "Bearer " + self.token)
         with urllib.request.urlopen(request, timeout=10) as response:
             return json.loads(response.read())
+
+    def text(self, path):
+        request = urllib.request.Request(self.url + path)
+        if self.token:
+            request.add_header("Authorization", "Bearer " + self.token)
+        with urllib.request.urlopen(request, timeout=10) as response:
+            return response.read().decode()
 
     def wait(self, job, seconds=90):
         deadline = time.time() + seconds
@@ -264,6 +279,60 @@ class WebPageTest(unittest.TestCase):
         headers = self.browser.js("Array.from(document.querySelectorAll('#sweep-jobs th')).map(h => h.textContent)")
         self.assertIn("friction ratio T / P", headers)
         self.assertNotIn("first yield (p0)", headers)
+
+    def test_a_crystal_that_never_yields_shows_none_and_why_never_a_number(self):
+        job = self.daemon.call("POST", "/v1/jobs", LOCKED)["id"]
+        sweep = self.daemon.call("POST", "/v1/sweeps", {"spec": LOCKED, "vary": {"loading.confining_pressure": [20000, 30000]}})
+        for j in [job] + sweep["jobs"]:
+            self.assertEqual(self.daemon.wait(j), "succeeded")
+        summary = self.daemon.call("GET", f"/v1/jobs/{job}")["summary"]
+        self.assertIs(summary["first_yield"]["found"], False)
+        self.assertIs(summary["peak"]["found"], False)
+        reason = summary["first_yield"]["reason"]
+        self.assertRegex(reason, r"^none to [0-9.]+ % strain")
+
+        # The job page's key values: the reason where the number would be.
+        self.browser.open(f"{self.daemon.url}/#/jobs/{job}")
+        key_values = self.browser.until("document.getElementById('key-values') && "
+                                        "document.getElementById('key-values').textContent")
+        self.assertIn("first yield: none to", key_values)
+        self.assertIn("first yield: " + reason, key_values)
+        self.assertIn("peak: " + summary["peak"]["reason"], key_values)
+        self.assertNotRegex(key_values, r"(first yield|peak) [0-9]")
+        # Its curve picture, inline: the legend names it, and no marker stands on the curve.
+        self.assertIn("first yield: none to", self.browser.until(
+            "document.querySelector('#curve svg g.legend') && document.querySelector('#curve svg g.legend').textContent"))
+        self.assertEqual(self.browser.js("document.querySelectorAll('#curve svg g.marker').length"), 0)
+        # The picture as the server draws it: each legend entry's lines joined again.
+        svg = ET.fromstring(self.daemon.text(f"/v1/jobs/{job}/curve.svg"))
+        groups = [g for g in svg.iter() if g.tag.split("}")[-1] == "g"]
+        legend = next(g for g in groups if g.get("class") == "legend")
+        entries = [" ".join(" ".join(t.itertext()).split()) for t in legend if t.tag.split("}")[-1] == "text"]
+        self.assertTrue(any(e.startswith("first yield: none to") for e in entries), entries)
+        self.assertIn("first yield: " + reason, entries)
+        self.assertFalse([e for e in entries if e.startswith("first yield") and not e.startswith("first yield: ")], entries)
+        markers = [g.get("data-label") for g in groups if g.get("class") == "marker"]
+        self.assertEqual(markers, [])  # neither first yield nor peak is a point of the curve
+
+        # The sweep page's table: "none" in the first yield's cell, the reason beneath it, no number of its own.
+        reasons = {j["id"]: j["first_yield"]["reason"] for j in self.daemon.call("GET", f"/v1/sweeps/{sweep['id']}")["jobs"]}
+        self.browser.open(f"{self.daemon.url}/#/sweeps/{sweep['id']}")
+        cells = self.browser.until("""(() => {
+            const heads = Array.from(document.querySelectorAll('#sweep-jobs th')).map(h => h.textContent);
+            const at = heads.indexOf('first yield (p0)');
+            const rows = Array.from(document.querySelectorAll('#sweep-jobs tr[data-id]'));
+            if (at < 0 || rows.length !== 2 || rows.some(r => !r.textContent.includes('succeeded'))) return null;
+            return rows.map(r => { const td = r.children[at], below = td.querySelector('div');
+              return {id: Number(r.dataset.id), numeric: td.classList.contains('num'), text: td.textContent,
+                      own: Array.from(td.childNodes).filter(n => n.nodeType === 3).map(n => n.textContent).join(''),
+                      reason: below ? below.textContent : null, title: td.title}; }); })()""")
+        self.assertEqual(sorted(c["id"] for c in cells), sorted(sweep["jobs"]))
+        for cell in cells:
+            self.assertEqual(cell["own"], "none", cell)
+            self.assertEqual(cell["reason"], reasons[cell["id"]], cell)
+            self.assertEqual(cell["title"], reasons[cell["id"]], cell)
+            self.assertEqual(cell["text"], "none" + reasons[cell["id"]], cell)  # nothing else: no value, no "at"
+            self.assertFalse(cell["numeric"], cell)
 
     def test_a_sweep_picture_keeps_long_labels_inside_it(self):
         # Five varied values and a status make a label of about 110 characters (issue 51: such a legend ran off a
