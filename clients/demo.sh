@@ -30,6 +30,6 @@ echo "== first rows of out/demo/curve.csv (u/l, P/P0, T/P0, P, T):"
 head -5 out/demo/curve.csv
 echo "== granulabd keeps serving at $GRANULAB_SERVER (database $db). Open $GRANULAB_SERVER/ in a browser; try"
 echo "   build/granulab submit examples/crystal_quick.json          (a small crystal, about 15 s)"
-echo "   build/granulab submit examples/fig7c_p30.json --dry-run    (the paper's size: its cost first, hours)"
+echo "   build/granulab submit examples/fig7c_p30.json --dry-run    (the paper's size: its cost first; the dry run says how long here)"
 echo "   (Ctrl-C stops the daemon)"
 wait $daemon

@@ -290,7 +290,7 @@ class Client:
         return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}", query, raw=True)
 
     def archive(self, job_id, path):
-        """Saves everything of a job (spec, summary, curve, every snapshot in every format) as a tar at `path`."""
+        """Saves everything of a job (spec, summary, curve, every snapshot in its nine files, all formats but the per-sphere dump_spheres) as a tar at `path`."""
         data = self._request("GET", f"/v1/jobs/{int(job_id)}/archive", raw=True, binary=True)
         with open(path, "wb") as f:
             f.write(data)
