@@ -26,17 +26,21 @@ void write_confinement_warning(SummaryWriter& w, const ConfinementReport& r) {
   w.text(nullptr, "confinement stopped after " + std::to_string(r.steps) +
                       " steps without reaching equilibrium (platen stresses " + std::to_string(r.stress_top) + " and " +
                       std::to_string(r.stress_bottom) + " Pa, kinetic/elastic energy " +
-                      std::to_string(r.kinetic_elastic_ratio) + "): what follows started from a sample not at rest");
+                      std::to_string(r.kinetic_elastic_ratio) +
+                      "), near it (within 5 and 10 times the criterion): what follows started from a sample close to, "
+                      "not at, rest");
 }
 
 namespace {
 std::string confinement_failure(const ConfinementReport& r, const CrystalSampleParams& p) {
-  char text[600];
+  char text[800];
   std::snprintf(text, sizeof text,
                 "confinement failed: after %llu steps (the cap, max_confinement_steps) the platens carry %.4g and "
                 "%.4g kPa against p0 = %.4g kPa, the packing %.4g and %.4g kPa laterally, and the kinetic energy is "
                 "%.2g of the elastic energy (equilibrium: platens within %.3g %% of p0 and kinetic/elastic below %.2g "
-                "at %d checks in a row); a sample not at rest is not loaded, so this job reports no result "
+                "at %d checks in a row; loaded anyway, with a warning, within 5 and 10 times those and the packing within "
+                "10 %% of p0); a sample this far "
+                "from rest is not loaded, so this job reports no result "
                 "(docs/model.md, \"Confinement\")",
                 static_cast<unsigned long long>(r.steps), r.stress_top / 1e3, r.stress_bottom / 1e3,
                 p.confining_pressure / 1e3, r.lateral_stress_x / 1e3, r.lateral_stress_y / 1e3,
@@ -49,7 +53,21 @@ ConfinementFailed::ConfinementFailed(const ConfinementReport& r, const CrystalSa
     : std::runtime_error(confinement_failure(r, p)) {}
 
 void require_confined(const ConfinementReport& r, const CrystalSampleParams& p) {
-  if (!r.converged && p.require_equilibrium) throw ConfinementFailed(r, p);
+  if (r.converged || !p.require_equilibrium) return;
+  // Near equilibrium at the cap (the criterion missed only by its three checks in a row, a platen ringing within a few
+  // tolerances): loaded, with the summary's warning. Far from it (platens at 19 of 30 kPa, kinetic/elastic 0.68): no
+  // result. The bands are 5 times the platens' tolerance and 10 times the kinetic one.
+  const double sigma = cohesive_stress_scale(p) > p.confining_pressure ? cohesive_stress_scale(p) : p.confining_pressure;
+  const double platen_error =
+      std::max(std::abs(r.stress_top - p.confining_pressure), std::abs(r.stress_bottom - p.confining_pressure)) / sigma;
+  // The packing must carry the bag's p0 too (its virial lateral stresses, within 10 tolerances: other lattices' sit a
+  // few % off it): two grains that never touch each other have platens at p0 and no elastic energy to measure the
+  // kinetic one against, but no lateral stress at all.
+  const double lateral_error = std::max(std::abs(r.lateral_stress_x - p.confining_pressure),
+                                        std::abs(r.lateral_stress_y - p.confining_pressure)) / sigma;
+  const bool near = platen_error <= 5 * p.equilibrium_tolerance && lateral_error <= 10 * p.equilibrium_tolerance &&
+                    r.kinetic_elastic_ratio <= 10 * p.kinetic_tolerance;
+  if (!near) throw ConfinementFailed(r, p);
 }
 
 double confinement_progress_steps(const CrystalSample& sample) {

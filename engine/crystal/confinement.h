@@ -33,7 +33,9 @@ struct ConfinementReport {
 struct ConfinementFailed : std::runtime_error {
   ConfinementFailed(const ConfinementReport& r, const CrystalSampleParams& p);
 };
-/// Throws ConfinementFailed unless the report converged (or the sample's params.require_equilibrium is off).
+/// Throws ConfinementFailed when the report did not converge and ended far from equilibrium: a platen off p0 by more
+/// than 5 equilibrium tolerances, or kinetic/elastic above 10 kinetic tolerances (nothing with
+/// params.require_equilibrium off). Nearer than that the run goes on, and write_confinement_warning() says so.
 void require_confined(const ConfinementReport& r, const CrystalSampleParams& p);
 
 /// Writes the report as the summary group "confinement".
