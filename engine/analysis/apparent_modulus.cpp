@@ -45,6 +45,11 @@ void write_apparent_modulus(SummaryWriter& w, const ApparentModulus& m, double s
   if (affine > 0) {
     w.number("affine_axial", affine, "Pa");
     if (m.found) w.number("affine_over_apparent", affine / m.value, "-");
+    w.text("note",
+           "affine_axial is the perfect crystal's tangent, every face closed and stuck, over strains of order eps0; "
+           "the secant spans tens to hundreds of eps0, where faces inclined to the load open or slide and the bag "
+           "holds the lateral stress, not the width: 1.1 to 8 times lower on perfect crystals (docs/model.md, "
+           "\"Apparent modulus\")");
   }
   w.end_group();
 }
