@@ -5,9 +5,10 @@ usage: python3 examples/imperfection_sweep.py [--out DIR] [--threads N] [--reuse
 
 Runs examples/imperfections_ne4.json (the reference crystal at N_e = 4, 60 kPa, to 2 %) with `build/granulab run`
 once perfect, then for each size_dispersion and each misorientation below (the other left at 0), into
-DIR/<name>/, and prints (and writes DIR/imperfections.csv) per run: the apparent modulus (the secant
-deviator / strain at the first row past 0.05 % strain), the first yield (summary's first_yield) and both over the
-perfect crystal's. --reuse skips runs whose summary.json exists. Standard library only.
+DIR/<name>/, and prints (and writes DIR/imperfections.csv) per run: the apparent modulus (the summary's: the secant
+between 10 % and 40 % of the first yield, or of the largest deviator when there is none, docs/model.md), the first
+yield (summary's first_yield; none when the deviator never fell after its largest) and both over the perfect
+crystal's. --reuse skips runs whose summary.json exists. Standard library only.
 """
 import argparse
 import csv
@@ -19,14 +20,6 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SIZE_DISPERSIONS = [0.001, 0.002, 0.005, 0.01, 0.02]
 MISORIENTATIONS = [0.25, 0.5, 1.0, 2.0, 4.0]
-
-
-def apparent_modulus(curve_csv):
-    with open(curve_csv) as f:
-        for row in csv.DictReader(f):
-            if float(row["strain"]) >= 5e-4:
-                return float(row["deviator"]) / float(row["strain"])
-    return float("nan")
 
 
 def main():
@@ -58,7 +51,10 @@ def main():
         with open(os.path.join(out, "summary.json")) as f:
             summary = json.load(f)
         table.append({"run": name, "size_dispersion": size, "misorientation_deg": tilt,
-                      "modulus_MPa": apparent_modulus(os.path.join(out, "curve.csv")) / 1e6,
+                      "modulus_MPa": summary["apparent_modulus"].get("value", float("nan")) / 1e6,
+                      "modulus_from_strain": summary["apparent_modulus"].get("from_strain", float("nan")),
+                      "modulus_to_strain": summary["apparent_modulus"].get("to_strain", float("nan")),
+                      "first_yield_reason": summary["first_yield"].get("reason", ""),
                       "first_yield_over_p0": summary["first_yield"].get("deviator_over_p0", float("nan")),
                       "first_yield_strain": summary["first_yield"].get("strain", float("nan")),
                       "confinement_steps": summary["confinement"]["steps"]})
@@ -70,10 +66,13 @@ def main():
         w = csv.DictWriter(f, fieldnames=list(table[0]))
         w.writeheader()
         w.writerows(table)
-    print(f"{'run':>10} {'E_app (MPa)':>12} {'/perfect':>9} {'yield/p0':>9} {'/perfect':>9} {'at strain':>10}")
+    print(f"{'run':>10} {'E_app (MPa)':>12} {'/perfect':>9} {'window %':>13} {'yield/p0':>9} {'/perfect':>9} "
+          f"{'at strain':>10}")
     for t in table:
-        print(f"{t['run']:>10} {t['modulus_MPa']:12.1f} {t['modulus_ratio']:9.3f} {t['first_yield_over_p0']:9.2f} "
-              f"{t['yield_ratio']:9.3f} {t['first_yield_strain']:10.5f}")
+        window = f"{100 * t['modulus_from_strain']:.3f}-{100 * t['modulus_to_strain']:.3f}"
+        yield_text = (f"{t['first_yield_over_p0']:9.2f} {t['yield_ratio']:9.3f} {t['first_yield_strain']:10.5f}"
+                      if t["first_yield_reason"] == "" else "  " + t["first_yield_reason"])
+        print(f"{t['run']:>10} {t['modulus_MPa']:12.1f} {t['modulus_ratio']:9.3f} {window:>13} {yield_text}")
 
 
 if __name__ == "__main__":
