@@ -37,8 +37,7 @@ CurvePeak highest_peak(const std::vector<double>& values, double floor, double d
   return p;
 }
 
-std::string missing_peak_reason(const CurvePeak& p, const std::string& what_end, const std::string& highest) {
-  (void)p;
+std::string missing_peak_reason(const std::string& what_end, const std::string& highest) {
   return "none to " + what_end + " (no drop after its largest, " + highest + ")";
 }
 

@@ -30,7 +30,7 @@ CurvePeak highest_peak(const std::vector<double>& values, double floor, double d
 
 /// The sentence that says why a peak was not found, e.g. "none to 1 % strain (no drop after its largest, 38.1 p0)":
 /// `what_end` the run's end ("1 % strain"), `highest` the largest value in the reading's words ("38.1 p0").
-std::string missing_peak_reason(const CurvePeak& p, const std::string& what_end, const std::string& highest);
+std::string missing_peak_reason(const std::string& what_end, const std::string& highest);
 
 /// Opens the summary group `key` with `found` and, when not found, `reason`; the caller writes the numbers when
 /// found and closes the group (end_group()). Returns p.found.

@@ -1,5 +1,7 @@
 #include "engine/experiments/crystal_compression/crystal_compression.h"
 
+#include "engine/analysis/curve_peak.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,13 +45,10 @@ std::vector<double> CrystalRow::values() const {
 }
 
 std::pair<double, double> first_yield_peak(const std::vector<CrystalRow>& curve, double p0, double drop) {
-  double best = 0, at = 0;
-  for (const CrystalRow& row : curve) {
-    if (best < 0.1 * p0 && row.deviator < 0.1 * p0) continue;  // still in the noise around zero
-    if (row.deviator > best) best = row.deviator, at = row.strain;
-    else if (row.deviator < best - drop * best) break;
-  }
-  return {at, best};
+  std::vector<double> deviator;
+  for (const CrystalRow& row : curve) deviator.push_back(row.deviator);
+  const CurvePeak p = first_peak(deviator, 0.1 * p0, drop);
+  return {curve.empty() ? 0.0 : curve[p.row].strain, p.value};
 }
 
 

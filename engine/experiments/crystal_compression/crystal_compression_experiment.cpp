@@ -47,7 +47,7 @@ struct CrystalSummary : ExperimentResult {
     auto stress_point = [&](const char* key, const CurvePeak& peak, bool against_estimate) {
       char text[64];
       std::snprintf(text, sizeof text, "%.3g p0", p0 > 0 ? peak.highest / p0 : 0.0);
-      if (begin_curve_peak(w, key, peak, missing_peak_reason(peak, percent_text(reached) + " strain", text))) {
+      if (begin_curve_peak(w, key, peak, missing_peak_reason(percent_text(reached) + " strain", text))) {
         const double dev = peak.value;
         w.number("strain", strain[peak.row], "-");
         w.number("deviator", dev, "Pa");

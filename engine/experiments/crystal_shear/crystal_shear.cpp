@@ -1,5 +1,7 @@
 #include "engine/experiments/crystal_shear/crystal_shear.h"
 
+#include "engine/analysis/curve_peak.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,17 +52,10 @@ std::vector<double> ShearRow::values() const {
 }
 
 std::size_t shear_peak_row(const std::vector<ShearRow>& curve, double drop) {
+  std::vector<double> ratio;
   double largest = 0;
-  for (const ShearRow& row : curve) largest = std::max(largest, std::abs(row.shear_over_normal));
-  double best = 0;
-  std::size_t at = 0;
-  for (std::size_t k = 0; k < curve.size(); ++k) {
-    const double r = std::abs(curve[k].shear_over_normal);
-    if (best < 0.1 * largest && r < 0.1 * largest) continue;  // still rising from zero
-    if (r > best) best = r, at = k;
-    else if (r < best - drop * best) break;
-  }
-  return at;
+  for (const ShearRow& row : curve) ratio.push_back(std::abs(row.shear_over_normal)), largest = std::max(largest, ratio.back());
+  return first_peak(ratio, 0.1 * largest, drop).row;  // below a tenth of the largest: still rising from zero
 }
 
 // Forward, not centred: before the peak the gap changes elastically as the load builds.

@@ -51,7 +51,6 @@ struct ShearSummary : ExperimentResult {
     last = std::min(last, r.curve.empty() ? 0 : r.curve.size() - 1);
     std::vector<ShearRow> first;
     if (!r.curve.empty()) first.assign(r.curve.begin() + std::min(from, last), r.curve.begin() + last + 1);
-    const std::size_t peak = first.empty() ? 0 : shear_peak_row(first);
     // A peak only where |tau / sigma_n| falls 2 % below its running maximum afterwards (curve_peak.h): a slab still
     // hardening at the end of its travel has none.
     std::vector<double> ratio;
@@ -59,10 +58,11 @@ struct ShearSummary : ExperimentResult {
     double largest = 0;
     for (double x : ratio) largest = std::max(largest, x);
     const CurvePeak found = first_peak(ratio, 0.1 * largest, 0.02);
+    const std::size_t peak = found.row;  // shear_peak_row()'s row
     char text[64];
     std::snprintf(text, sizeof text, "|tau / sigma_n| %.3g", found.highest);
     const double travel = first.empty() ? 0.0 : std::abs(first.back().shear_strain - first.front().shear_strain);
-    if (begin_curve_peak(w, "peak", found, missing_peak_reason(found, percent_text(travel) + " shear strain", text))) {
+    if (begin_curve_peak(w, "peak", found, missing_peak_reason(percent_text(travel) + " shear strain", text))) {
       const ShearRow& p = first[peak];
       w.number("shear_strain", p.shear_strain, "-");
       w.number("shear_over_normal", p.shear_over_normal, "-");
