@@ -204,6 +204,7 @@ void CrystalSample::update_membrane() {
 }
 
 bool CrystalSample::step(std::uint64_t since) {
+  if (fixed_.follows) press_faces();
   world_.step();
   if ((world_.steps() - since) % params_.membrane_interval != 0) return false;
   {
@@ -248,13 +249,7 @@ void CrystalSample::fix_confining_forces(double end_load) {
   // (They must not be servoed to bare contact instead: a body under fixed compressive forces is unstable
   // in rotation, since a tilt turns the end forces into a couple that tilts it further, and platens that
   // carry nothing cannot hold it; a 4 x 8 x 3 crystal flew apart so in 10,000 steps.)
-  for (std::size_t w : {top_, bottom_}) {
-    Wall& wall = world_.walls()[w];
-    double deepest = 0;
-    for (std::size_t i = 0; i < spheres.size(); ++i)
-      deepest = std::max(deepest, sphere_radius(i) - (spheres[i] - wall.point).dot(wall.normal));
-    wall.point -= deepest * wall.normal;
-  }
+  retract_platens();
   fixed_.on = true;
   // The forces of this state, as the loading's first step and row must see them (at rest, the one more
   // evaluation adds nothing to the contacts' shear histories that matters: v_t dt with v_t ~ 0).
@@ -263,6 +258,7 @@ void CrystalSample::fix_confining_forces(double end_load) {
 
 void CrystalSample::release_confinement() {
   fixed_ = FixedForces{};
+  pressed_.clear();
   fixed_.on = true;
   std::fill(world_.external_force().begin(), world_.external_force().end(), Vec3::Zero());
   std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
@@ -276,6 +272,7 @@ void CrystalSample::fix_face_forces() {
   std::fill(force.begin(), force.end(), Vec3::Zero());
   std::fill(world_.external_torque().begin(), world_.external_torque().end(), Vec3::Zero());
   fixed_ = FixedForces{};
+  pressed_.clear();
   const double p0 = params_.confining_pressure;
   for (std::size_t b = 0; b < exposed.size(); ++b) {  // bodies are the sites, in order
     const double s = world_.bodies().scale[b];        // a smaller grain's faces are smaller
@@ -288,6 +285,63 @@ void CrystalSample::fix_face_forces() {
   fixed_.end_load = p0 * cross_section_;
   fixed_.on = true;
   world_.compute_forces();
+}
+
+void CrystalSample::retract_platens() {
+  const std::vector<Vec3>& spheres = world_.sphere_positions();
+  for (std::size_t w : {top_, bottom_}) {
+    Wall& wall = world_.walls()[w];
+    double deepest = 0;
+    for (std::size_t i = 0; i < spheres.size(); ++i)
+      deepest = std::max(deepest, sphere_radius(i) - (spheres[i] - wall.point).dot(wall.normal));
+    wall.point -= deepest * wall.normal;
+  }
+}
+
+void CrystalSample::wrap_bag() {
+  // Platens that carry p0 (a sample the taut bag confined) step back to bare contact: the end faces' pressure takes
+  // their load over. On the lattice as built they touch already, and nothing moves.
+  retract_platens();
+  list_pressed_faces();
+  fixed_ = FixedForces{};
+  // The summary's areas per face, as fix_face_forces() gives them: the positive parts of the vector areas.
+  const double cell = (1 - hydrostatic_prestrain(params_)) * params_.grain.size;
+  for (const ExposedArea& e : exposed_face_areas(lattice_, grain_.solid(), cell)) {
+    const double parts[6] = {e.lateral.x(), -e.lateral.x(), e.lateral.y(), -e.lateral.y(), e.end.z(), -e.end.z()};
+    for (int k = 0; k < 6; ++k) fixed_.area[k] += std::max(0.0, parts[k]);
+  }
+  for (int k = 0; k < 6; ++k) fixed_.load[k] = params_.confining_pressure * fixed_.area[k];
+  fixed_.end_load = params_.confining_pressure * cross_section_;
+  fixed_.on = fixed_.follows = true;
+  press_faces();
+  world_.compute_forces();
+}
+
+void CrystalSample::list_pressed_faces() {
+  const double cell = (1 - hydrostatic_prestrain(params_)) * params_.grain.size;
+  const std::vector<Face>& faces = grain_.solid().faces();
+  pressed_.clear();
+  for (const ExposedFace& e : exposed_faces(lattice_, grain_.solid(), cell)) {
+    const double s = world_.bodies().scale[e.site];  // bodies are the sites, in order; a smaller grain's faces are smaller
+    const Face& face = faces[e.face];
+    // The body frame is the template's: the site's orientation (and an imperfect grain's tilt) is the body's.
+    pressed_.push_back({BodyId(e.site), face.normal, s * face.centroid(), params_.confining_pressure * s * s * face.area()});
+  }
+}
+
+void CrystalSample::press_faces() {
+  StageTimer t(world_.stage_times().membrane);
+  std::vector<Vec3>& force = world_.external_force();
+  std::vector<Vec3>& torque = world_.external_torque();
+  std::fill(force.begin(), force.end(), Vec3::Zero());
+  std::fill(torque.begin(), torque.end(), Vec3::Zero());
+  const std::vector<Quat>& orientation = world_.bodies().orientation;
+  for (const PressedFace& f : pressed_) {
+    const Mat3 r = orientation[f.body].toRotationMatrix();
+    const Vec3 push = -f.force * (r * f.normal);
+    force[f.body] += push;
+    torque[f.body] += (r * f.centroid).cross(push);
+  }
 }
 
 double CrystalSample::axial_stress(std::size_t w) const {
@@ -328,6 +382,17 @@ std::pair<double, double> CrystalSample::lateral_stresses() const {
   const auto& forces = world_.pair_forces();
   const auto& x = world_.bodies().position;
   for (std::size_t p = 0; p < pairs.size(); ++p) fl += forces[p].cwiseProduct(x[pairs[p].a] - x[pairs[p].b]);
+  if (fixed_.follows) {
+    // The wrapped bag's own virial: over its closed surface the integral of x_k n_k dA is the enclosed volume V, so
+    // in equilibrium sum f_k l_k = p0 V, and the packing's stress is sum f_k l_k / V.
+    const std::vector<Quat>& orientation = world_.bodies().orientation;
+    Vec3 volume = Vec3::Zero();
+    for (const PressedFace& f : pressed_) {
+      const Mat3 r = orientation[f.body].toRotationMatrix();
+      volume += (x[f.body] + r * f.centroid).cwiseProduct(r * f.normal) * (f.force / params_.confining_pressure);
+    }
+    return {volume.x() > 0 ? fl.x() / volume.x() : 0.0, volume.y() > 0 ? fl.y() / volume.y() : 0.0};
+  }
   const MembraneStats& m = membrane_.stats();
   const double width = m.load_centre[0] - m.load_centre[1], thickness = m.load_centre[2] - m.load_centre[3];
   const double area_x = (m.area[0] + m.area[1]) / 2, area_y = (m.area[2] + m.area[3]) / 2;
@@ -347,6 +412,7 @@ void CrystalSample::restore(CheckpointReader& r) {
   membrane_.restore(r);
   r.section("fixed_forces");
   r.value(fixed_);
+  if (fixed_.follows) list_pressed_faces();  // from the lattice; the forces follow at the next step
 }
 
 }  // namespace granulab

@@ -26,6 +26,7 @@ struct FixedForces {
   double area[6] = {0, 0, 0, 0, 0, 0};
   double load[6] = {0, 0, 0, 0, 0, 0};
   double end_load = 0;  ///< what axial_stress() adds on each end: p0 x the cross-section, within 1 % (N)
+  bool follows = false;  ///< the forces follow the grains: p0 on their exposed faces (CrystalSample::wrap_bag)
 };
 
 struct CrystalSampleParams {
@@ -142,7 +143,8 @@ class CrystalSample {
   /// f_x l_x (l = branch vector between grain centres) over the bag's projected area on the x faces
   /// times the distance between the load centres of the two x faces (same for y). By the virial
   /// identity this equals p0 when every grain is in equilibrium under contacts and bag alone, so it
-  /// measures how well the packing carries the bag's load (inertia or wall shear show up as a gap).
+  /// measures how well the packing carries the bag's load (inertia or wall shear show up as a gap). With the wrapped
+  /// bag (wrap_bag()), over the volume its faces enclose along each axis (the integral of x_k n_k over them).
   std::pair<double, double> lateral_stresses() const;
   /// Kinetic over elastic energy of the contacts (-), 0 without contacts.
   double kinetic_elastic_ratio() const;
@@ -167,6 +169,14 @@ class CrystalSample {
   /// They add up to zero; the platens carry the deviator alone, and axial_stress() adds p0 back on each
   /// end. The summary's areas are the positive parts of the vector areas per face.
   void fix_face_forces();
+  /// The bag wrapped over the whole sample, as a vacuum bag on centimetre grains is (loading.confinement
+  /// "pressure", docs/model.md, "Confinement"): p0 on every exposed face of every surface grain (exposed_faces.h,
+  /// end faces included), at the face's centroid along its inward normal, both turning and moving with the grain at
+  /// every step. On the lattice as built this is the paper's LAMMPS set-up (fix_face_forces()) with a pressure's
+  /// torques; as the grains turn it stays a pressure (over a rigid sample it sums to no force and no moment, where
+  /// fixed forces make a couple). The platens step back to bare contact and carry the deviator alone; axial_stress()
+  /// adds p0 on each end.
+  void wrap_bag();
   const FixedForces& fixed_forces() const { return fixed_; }
   /// Takes the bag away: no confining force from now on (fixed forces of zero), as a crystal held by its own grips
   /// and cohesion is loaded bare. Forces are recomputed.
@@ -186,6 +196,18 @@ class CrystalSample {
  private:
   /// The bodies' scales for the bag's height maps, when some grain is not the template's size.
   const std::vector<double>* scales() const { return params_.imperfections.any() ? &world_.bodies().scale : nullptr; }
+  /// One face the wrapped bag presses, in its grain's frame, scaled by the grain's size.
+  struct PressedFace {
+    BodyId body = 0;
+    Vec3 normal;        ///< outward unit normal (-)
+    Vec3 centroid;      ///< from the grain's centre (m)
+    double force = 0;   ///< p0 x area (N)
+  };
+  /// Both platens step back by their deepest sphere's overlap: bare contact.
+  void retract_platens();
+  /// wrap_bag()'s faces, from the lattice; the forces and torques they make now.
+  void list_pressed_faces();
+  void press_faces();
   CrystalSampleParams params_;
   GrainTemplate grain_;
   CrystalLattice lattice_;
@@ -193,6 +215,7 @@ class CrystalSample {
   World world_;
   Membrane membrane_;
   FixedForces fixed_;
+  std::vector<PressedFace> pressed_;  // with fixed_.follows
   std::vector<GrainId> ids_;
   std::size_t top_ = 0, bottom_ = 1;
   double cross_section_ = 0, t0_ = 0;

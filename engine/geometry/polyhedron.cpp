@@ -41,6 +41,17 @@ Vec3 Face::centre() const {
   return c / double(vertices.size());
 }
 
+Vec3 Face::centroid() const {
+  Vec3 sum = Vec3::Zero();
+  double total = 0;
+  for (std::size_t k = 1; k + 1 < vertices.size(); ++k) {  // fan from vertex 0: triangles' centroids by area
+    const double a = (vertices[k] - vertices[0]).cross(vertices[k + 1] - vertices[0]).dot(normal);
+    sum += a * (vertices[0] + vertices[k] + vertices[k + 1]) / 3;
+    total += a;
+  }
+  return sum / total;
+}
+
 namespace {
 
 Face make_face(const Vec3& corner, const Vec3& b, const Vec3& c) {

@@ -30,6 +30,9 @@ struct Face {
   bool parallelogram = false;
   double area() const;        ///< m^2
   Vec3 centre() const;        ///< the mean of the vertices (m)
+  /// The area centroid (m): where a uniform pressure on the face acts (the mean of the vertices is not, on a
+  /// trapezoid).
+  Vec3 centroid() const;
 };
 
 /// Mass properties of the homogeneous solid (density 1 unless scaled by the caller).

@@ -153,6 +153,13 @@ static double release_fraction(const CrystalParams& p) { return 0.45 * std::clam
 // exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
 // lost. A release to a deviator slows down the same way (its distance left extrapolated from the deviator
 // left), even as the last segment, and gives back release_fraction() of the strain reached.
+double expected_compression_confinement_steps(const CrystalParams& p) {
+  if (p.confinement == Confinement::face_forces) return 0;
+  if (p.confinement == Confinement::membrane && !p.imperfections.any())
+    return double(p.equilibrium_checks) * p.membrane_interval;
+  return expected_confinement_steps(p);
+}
+
 std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step) {
   const double c = crystal_wave_speed(p), speed = p.rate_number * c, ramp = 10 * length / c;
   std::vector<LoadSegment> program = p.program;

@@ -5,7 +5,8 @@
 //  2. load: the top wall moves down at constant speed (the bottom one is fixed), strain rate from the rate number
 //     R = L eps_dot / sqrt(E / rho) (rho with mass scaling), to max_strain or through a loading program
 //     (loading_program.h); curve rows and snapshots on the way.
-// The lateral confinement stays the bag, or becomes fixed forces (`confinement`, CrystalSample).
+// The confinement: the bag wrapped over the sample (the default), the taut bag, or fixed forces (`confinement`,
+// CrystalSample).
 #pragma once
 
 #include <cstdint>
@@ -23,9 +24,10 @@ namespace granulab {
 
 /// How the crystal is held laterally while it is loaded (docs/model.md, "Confinement", "Fixed forces").
 enum class Confinement {
-  membrane,      ///< the bag confines it, then stays on, following the surface
-  fixed_forces,  ///< the bag confines it, then its forces are fixed (CrystalSample::fix_confining_forces)
-  face_forces,   ///< no bag: the paper's LAMMPS set-up from the lattice as built (CrystalSample::fix_face_forces)
+  membrane,       ///< the vacuum bag wrapped over the sample: p0 on every exposed face, following it (CrystalSample::wrap_bag)
+  fixed_forces,   ///< the taut bag confines it, then its forces are fixed (CrystalSample::fix_confining_forces)
+  face_forces,    ///< no bag: the paper's LAMMPS set-up from the lattice as built (CrystalSample::fix_face_forces)
+  taut_membrane,  ///< the taut bag (the model until 2026-12-07): p0 on each grain's footprint on the face plane
 };
 
 struct CrystalParams : CrystalSampleParams {
@@ -79,7 +81,9 @@ struct CrystalResult {
   std::vector<StressDrop> stress_drops;  ///< the deviator's drops while the platen compressed (stress_drops.h)
 };
 
-
+/// The expected time steps of the confinement phase (-): none with face forces; the criterion's checks alone with
+/// the wrapped bag on perfect grains (the lattice as built is at rest under it); the bag's calibration otherwise.
+double expected_compression_confinement_steps(const CrystalParams& p);
 /// The expected time steps of each loading segment (one without a program) of a sample of `length` (m)
 /// stepped by `time_step` (s).
 std::vector<WorkPhase> loading_phases(const CrystalParams& p, double length, double time_step);

@@ -83,7 +83,7 @@ struct CrystalSummary : ExperimentResult {
     if (r.fixed.on) {
       // Per face, the area the fixed forces were computed from and their sum over it: p0 x area.
       static const char* const faces[6] = {"x_plus", "x_minus", "y_plus", "y_minus", "z_plus", "z_minus"};
-      w.begin_group("fixed_forces");
+      w.begin_group(r.fixed.follows ? "pressed_faces" : "fixed_forces");
       for (int k = 0; k < 6; ++k) {
         w.begin_group(faces[k]);
         w.number("area", r.fixed.area[k], "m^2");
@@ -212,21 +212,24 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   v.section("loading");
   v.number("max_strain", p.max_strain, {0, 0.5, true}, "-",
            "compression stops here; with a loading.program, the largest strain its segments may ask for");
-  static const char* const confinements[] = {"membrane", "fixed_forces", "face_forces"};
+  static const char* const confinements[] = {"membrane", "fixed_forces", "face_forces", "taut_membrane"};
   std::string confinement = confinements[int(p.confinement)];
-  v.choice("confinement", confinement, {"membrane", "fixed_forces", "face_forces"},
-           "membrane: the bag confines the crystal and stays on, following the surface; fixed_forces: the bag "
-           "confines it, then each lateral surface grain keeps p0 x its projected area along its face's inward "
-           "normal and the end grains share the platens' p0 x cross-section, fixed in size and direction; "
-           "face_forces: the paper's LAMMPS set-up, no bag: from the lattice as built, each surface grain keeps "
-           "p0 x the vector area of its exposed faces, end grains included. With fixed forces the platens carry "
-           "the deviator alone (the stress columns count p0 back in; docs/model.md, \"Fixed forces\")");
-  for (int k = 0; k < 3; ++k)
+  v.choice("confinement", confinement, {"membrane", "fixed_forces", "face_forces", "taut_membrane"},
+           "membrane: the vacuum bag wrapped over the whole sample, p0 on every exposed face of every surface grain, "
+           "end faces included, turning and moving with it (a pressure on any surface); taut_membrane: the bag as "
+           "modelled until 2026-12-07, p0 on each lateral grain's footprint on the face plane, re-detected every 200 "
+           "steps, with the platens carrying p0 (too weak on staircase faces: docs/model.md, \"Confinement\"); "
+           "fixed_forces: the taut bag confines it, then each lateral surface grain keeps p0 x its projected area "
+           "along its face's inward normal and the end grains share the platens' p0 x cross-section, fixed in size "
+           "and direction; face_forces: the paper's LAMMPS set-up: from the lattice as built, each surface grain "
+           "keeps p0 x the vector area of its exposed faces, end grains included, fixed. Except with taut_membrane "
+           "the platens carry the deviator alone (the stress columns count p0 back in)");
+  for (int k = 0; k < 4; ++k)
     if (confinement == confinements[k]) p.confinement = Confinement(k);
-  v.require(
-      p.confinement == Confinement::membrane || p.rows_z >= 2, "loading.confinement",
-      "'loading.confinement' " + confinement +
-          " needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
+  v.require(p.confinement == Confinement::membrane || p.confinement == Confinement::taut_membrane || p.rows_z >= 2,
+            "loading.confinement",
+            "'loading.confinement' " + confinement +
+                " needs crystal.rows_z >= 2: a grain on both ends would get both ends' forces");
   visit_program(v, p);
   if (!(p.rate_number > 0))
     p.rate_number = default_compression_rate_number(p.confining_pressure, p.material.youngs_modulus);
@@ -281,6 +284,7 @@ Headline CrystalCompressionExperiment::headline() const {
 Workload CrystalCompressionExperiment::workload() const {
   Workload w = confinement_workload(params);
   if (params.confinement == Confinement::face_forces) w.steps = 0, w.phases.clear();  // no confinement phase
+  else w.phases.front().steps = expected_compression_confinement_steps(params);
   // The bound: loading a sample no longer than rows_z grain sizes (the paper's rows are 0.61 a apart; other
   // lattices and axes can space them wider, so theirs is at least the crystal's own length), a program at its
   // longest (budgets rely on it); the expected phases: the crystal's own length, each segment as planned.

@@ -6,8 +6,9 @@
 //    axis and are flat through the whole crystal, so a slab slides on one when Coulomb's law holds on it:
 //    sigma_n = (s1 + p0)/2, tau = (s1 - p0)/2, tau = f sigma_n, s1/p0 = (1 + f)/(1 - f); along [1 1 1] the
 //    planes lie at acos(1/sqrt3) = 54.7 degrees (cos^2 = 1/3, sin cos = sqrt2/3), s1/p0 = (sqrt2 + 2f)/(sqrt2 - f).
-//    s1 is the axial stress, p0 included. On crystals of aspect ratio >= 4 the measured first yield is within
-//    10 % of these at f = 0.2 and 0.35 (the issue's bound: the walls' friction and the band's ends add a little).
+//    s1 is the axial stress, p0 included. In the default wrapped bag, on crystals 4 grains wide of aspect ratio 2
+//    and 4, the measured first yield is within 10 % of these at f = 0.2 and 0.35 (the issue's bound: the walls'
+//    friction and the band's ends add a little).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -74,28 +75,33 @@ double axial_first_yield(const CrystalParams& p) {
   return p.confining_pressure + first_yield_peak(r.curve, p.confining_pressure).second;
 }
 
-// The closed form assumes a uniform lateral stress p0, which the fixed face forces apply (p0 on every exposed
-// face). In the bag the crystal is weaker (measured: first yield 1.66 p0 against 2.08 on a crystal of this size;
-// not the bag's bridging, docs/results.md).
+// The closed form assumes a uniform lateral stress p0: a pressure, which the default wrapped bag is (p0 on every
+// exposed face). Issue 51's sizes: 4 grains wide (x), aspect ratios about 2 and 4, f = 0.2 and 0.35. (The taut bag,
+// `membrane`, gave no deviator at all on 4 x 6 x 6 at f = 0.2, docs/model.md "Why the taut bag fails on staircase
+// faces"; 10 grains wide, 10 x 14 x 14 and 7 x 24 x 12, came within 4 % in the wrapped bag, docs/results.md.)
 TEST(LatticeCompression, SimpleCubicSlidesOnItsCubeFacesAtCoulombsStress) {
   const double p0 = 30e3;
-  for (double f : {0.2, 0.35}) {
-    // [1 1 0]: x = [0 0 1] (period a), y = [1 -1 0] (layers a / sqrt2), z period sqrt2 a: 3a x 7.1a x 28a.
-    CrystalParams along_110 = crystal(LatticeType::sc, {1, 1, 0}, 3, 10, 20, p0);
-    // [1 1 1]: x = [1 0 -1] (period sqrt2 a), y = [-1 2 -1] (layers a / sqrt6), z period sqrt3 a: 5.7a x 5.7a x 24a.
-    CrystalParams along_111 = crystal(LatticeType::sc, {1, 1, 1}, 4, 14, 14, p0);
-    for (CrystalParams* p : {&along_110, &along_111}) {
-      p->material.friction = f, p->wall_friction = f;
-      p->confinement = Confinement::face_forces;
-      p->max_strain = 8e-4;
+  struct Case {
+    Indices axis;
+    int gx, ly, rz;
+  };
+  // [1 1 0]: x = [0 0 1] (period a), y = [1 -1 0] (layers a / sqrt2), z period sqrt2 a: 4a x 4.2a x 8.5a and 15.6a.
+  // [1 1 1]: x = [1 0 -1] (period sqrt2 a), y = [-1 2 -1] (layers a / sqrt6), z period sqrt3 a: 5.7a x 5.7a x 12.1a
+  // and 24.2a.
+  const Case cases[] = {{{1, 1, 0}, 4, 6, 6}, {{1, 1, 0}, 4, 6, 11}, {{1, 1, 1}, 4, 14, 7}, {{1, 1, 1}, 4, 14, 14}};
+  for (double f : {0.2, 0.35})
+    for (const Case& c : cases) {
+      CrystalParams p = crystal(LatticeType::sc, c.axis, c.gx, c.ly, c.rz, p0);
+      EXPECT_EQ(p.confinement, Confinement::membrane);  // the default, the wrapped bag
+      p.material.friction = f, p.wall_friction = f;
+      p.max_strain = 8e-4;
+      const double s1 = axial_first_yield(p) / p0;
+      const double coulomb = c.axis[2] == 0 ? (1 + f) / (1 - f) : (std::sqrt(2.0) + 2 * f) / (std::sqrt(2.0) - f);
+      EXPECT_NEAR(s1 / coulomb, 1.0, 0.10) << "f " << f << " [" << c.axis[0] << c.axis[1] << c.axis[2] << "] "
+                                            << c.gx << " x " << c.ly << " x " << c.rz << ": " << s1 << " vs " << coulomb;
+      std::printf("sc f = %.2f [%d %d %d] %d x %d x %d: first yield s1/p0 %.3f (Coulomb %.3f)\n", f, c.axis[0],
+                  c.axis[1], c.axis[2], c.gx, c.ly, c.rz, s1, coulomb);
     }
-    const double s110 = axial_first_yield(along_110) / p0, s111 = axial_first_yield(along_111) / p0;
-    const double coulomb_110 = (1 + f) / (1 - f), coulomb_111 = (std::sqrt(2.0) + 2 * f) / (std::sqrt(2.0) - f);
-    EXPECT_NEAR(s110 / coulomb_110, 1.0, 0.10) << "f " << f << " [110]: " << s110 << " vs " << coulomb_110;
-    EXPECT_NEAR(s111 / coulomb_111, 1.0, 0.10) << "f " << f << " [111]: " << s111 << " vs " << coulomb_111;
-    std::printf("sc f = %.2f: first yield s1/p0 [110] %.3f (Coulomb %.3f), [111] %.3f (Coulomb %.3f)\n", f, s110,
-                coulomb_110, s111, coulomb_111);
-  }
 }
 
 }  // namespace
