@@ -124,7 +124,8 @@ def regenerate(threads, pictures=None):
             "first yields of %.2f, %.2f and %.2f p0" % tuple(fy),
             "largest deviators to 1 %% strain, %.2f, %.2f and %.2f p0" % tuple(largest),
             {(False, False, True): "only the last of them is a peak", (False, False, False): "none of them is a peak",
-             (True, True, True): "each of them is a peak"}.get(tuple(peak_found), "peaks found: %s" % peak_found),
+             (True, True, True): "each of them is a peak",
+             (False, True, True): "the 10 kPa crystal still hardens at 1 %"}.get(tuple(peak_found), "peaks found: %s" % peak_found),
             "%s, %s and %s steps" % tuple("{:,}".format(s) for s in steps),
         ]
         return {"dry_run": dry, "jobs": [finals[j] for j in ids], "facts": facts, "summary_30kpa": summaries[order[1]],

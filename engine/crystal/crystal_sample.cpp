@@ -362,8 +362,11 @@ void CrystalSample::check_finite() const {
   // the sample's bounding box) would then ask for gigabytes. No loading moves a grain further from the
   // centre than twice the sample's size.
   const double reach = 2 * (lattice_.extent.norm() + params_.grain.size);
-  for (const Vec3& x : world_.bodies().position)
-    if (!(x.norm() < reach)) throw unstable("a grain left the sample, more than twice its size from its centre");
+  const std::vector<Vec3>& position = world_.bodies().position;
+  for (std::size_t b = 0; b < position.size(); ++b)
+    if (!(position[b].norm() < reach))
+      throw unstable("grain " + std::to_string(b < ids_.size() ? value(ids_[b]) : b) +
+                     " left the sample, more than twice its size from its centre");
 }
 
 double CrystalSample::wall_stress(std::size_t w) const {
@@ -384,12 +387,16 @@ std::pair<double, double> CrystalSample::lateral_stresses() const {
   for (std::size_t p = 0; p < pairs.size(); ++p) fl += forces[p].cwiseProduct(x[pairs[p].a] - x[pairs[p].b]);
   if (fixed_.follows) {
     // The wrapped bag's own virial: over its closed surface the integral of x_k n_k dA is the enclosed volume V, so
-    // in equilibrium sum f_k l_k = p0 V, and the packing's stress is sum f_k l_k / V.
+    // in equilibrium the packing's stress is its virial over V. The pair sum counts the centre-to-centre spans only;
+    // each bag force also acts across the half grain between its face and the grain's centre, which adds
+    // F (c_k n_k) per face (c: centroid from the centre). Without it a crystal n grains wide reads (n - 1)/n of p0.
     const std::vector<Quat>& orientation = world_.bodies().orientation;
     Vec3 volume = Vec3::Zero();
     for (const PressedFace& f : pressed_) {
       const Mat3 r = orientation[f.body].toRotationMatrix();
-      volume += (x[f.body] + r * f.centroid).cwiseProduct(r * f.normal) * (f.force / params_.confining_pressure);
+      const Vec3 c = r * f.centroid, n = r * f.normal;
+      fl += f.force * c.cwiseProduct(n);
+      volume += (x[f.body] + c).cwiseProduct(n) * (f.force / params_.confining_pressure);
     }
     return {volume.x() > 0 ? fl.x() / volume.x() : 0.0, volume.y() > 0 ? fl.y() / volume.y() : 0.0};
   }

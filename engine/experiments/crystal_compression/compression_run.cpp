@@ -129,7 +129,7 @@ void CrystalCompression::confine_and_begin(Run& run) {
     // that it is at rest, the platens servoed to bare contact. Smaller or tilted grains start apart: the taut bag
     // packs them (under the wrapped bag from the start such a crystal did not settle in 200,000 steps, kinetic/elastic
     // 7.8), and the wrapped bag takes over from it for the loading.
-    const bool wrapped = params_.confinement == Confinement::membrane, packed_first = wrapped && params_.imperfections.any();
+    const bool wrapped = bag_wraps(params_), packed_first = bag_packs_first(params_);
     if (wrapped && !packed_first && !run.at.confinement.begun) sample_.wrap_bag();
     run.r.confinement = granulab::confine(sample_, progress, nullptr, &run.at.confinement, [&] { safe_point(run); });
     require_confined(run.r.confinement, sample_.params());

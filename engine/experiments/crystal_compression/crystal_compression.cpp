@@ -153,9 +153,15 @@ static double release_fraction(const CrystalParams& p) { return 0.45 * std::clam
 // exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
 // lost. A release to a deviator slows down the same way (its distance left extrapolated from the deviator
 // left), even as the last segment, and gives back release_fraction() of the strain reached.
+bool bag_wraps(const CrystalParams& p) {
+  return p.confinement == Confinement::membrane && p.knockout_ids.empty() && p.knockout_regions.empty();
+}
+
+bool bag_packs_first(const CrystalParams& p) { return bag_wraps(p) && p.imperfections.any(); }
+
 double expected_compression_confinement_steps(const CrystalParams& p) {
   if (p.confinement == Confinement::face_forces) return 0;
-  if (p.confinement == Confinement::membrane && !p.imperfections.any())
+  if (bag_wraps(p) && !bag_packs_first(p))
     return double(p.equilibrium_checks) * p.membrane_interval;
   return expected_confinement_steps(p);
 }

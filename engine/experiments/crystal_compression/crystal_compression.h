@@ -81,6 +81,15 @@ struct CrystalResult {
   std::vector<StressDrop> stress_drops;  ///< the deviator's drops while the platen compressed (stress_drops.h)
 };
 
+/// Whether the bag is wrapped over the crystal (docs/model.md, "Confinement"): with `membrane`, on every crystal
+/// without knock-outs. The wrapped bag's pressure follows a grain wherever it goes, so a grain beside a hole, pushed
+/// in by the pressure on its outer faces, never stops (measured: on the notched 4 x 3 x 8 crystal of the knock-out
+/// test, a grain pushed through the hole and out of the sample at step 27,600); a crystal with knock-outs keeps the
+/// taut bag, which spans its holes (Fig. 10's hole stays open under it).
+bool bag_wraps(const CrystalParams& p);
+/// Whether the taut bag packs the crystal before the wrapped bag takes over: smaller or tilted grains start apart.
+bool bag_packs_first(const CrystalParams& p);
+
 /// The expected time steps of the confinement phase (-): none with face forces; the criterion's checks alone with
 /// the wrapped bag on perfect grains (the lattice as built is at rest under it); the bag's calibration otherwise.
 double expected_compression_confinement_steps(const CrystalParams& p);

@@ -216,13 +216,14 @@ void CrystalCompressionExperiment::parameters(ParameterVisitor& v) {
   std::string confinement = confinements[int(p.confinement)];
   v.choice("confinement", confinement, {"membrane", "fixed_forces", "face_forces", "taut_membrane"},
            "membrane: the vacuum bag wrapped over the whole sample, p0 on every exposed face of every surface grain, "
-           "end faces included, turning and moving with it (a pressure on any surface); taut_membrane: the bag as "
+           "end faces included, turning and moving with it (a pressure on any surface); a crystal with knock-outs "
+           "keeps the taut bag, which spans its holes; taut_membrane: the bag as "
            "modelled until 2026-12-07, p0 on each lateral grain's footprint on the face plane, re-detected every 200 "
            "steps, with the platens carrying p0 (too weak on staircase faces: docs/model.md, \"Confinement\"); "
            "fixed_forces: the taut bag confines it, then each lateral surface grain keeps p0 x its projected area "
            "along its face's inward normal and the end grains share the platens' p0 x cross-section, fixed in size "
            "and direction; face_forces: the paper's LAMMPS set-up: from the lattice as built, each surface grain "
-           "keeps p0 x the vector area of its exposed faces, end grains included, fixed. Except with taut_membrane "
+           "keeps p0 x the vector area of its exposed faces, end grains included, fixed. Except with the taut bag "
            "the platens carry the deviator alone (the stress columns count p0 back in)");
   for (int k = 0; k < 4; ++k)
     if (confinement == confinements[k]) p.confinement = Confinement(k);

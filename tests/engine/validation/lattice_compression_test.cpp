@@ -46,14 +46,16 @@ TEST(LatticeCompression, EveryLatticeConfinesToP0AndCarriesLoad) {
     EXPECT_NEAR(c.lateral_stress_y, p0, 0.1 * p0) << to_string(lattice);
     // Along these axes no close-packed or cube plane is inclined to the load, so the crystals stiffen rather than
     // yield early: they carry a deviator well above p0 by 0.2 % strain, with the top and bottom platens agreeing once
-    // the platen has come up to speed. It accelerates over ten wave transits, 5 R of strain; the stiff bcc crystal
-    // passes a deviator of p0 within that ramp, where the top leads the bottom by a transit's loading (5.7 % at
-    // 5e-5 strain at the default R = 1.5 p0/E, 1.3 % after it).
-    const double ramp_strain = 5 * default_compression_rate_number(p0, Material().youngs_modulus);
+    // the loading has settled. The platen accelerates over ten wave transits, 5 R of strain (7.5e-5 at the default
+    // R = 1.5 p0/E), and in the wrapped bag it starts at bare contact, where a Hertzian contact has no stiffness: the
+    // stiff bcc crystal rings as the platens engage, top and bottom alternately ahead (measured: 28 % of the axial
+    // stress at 1.4e-5 strain, 9 % at 1.1e-4, 4.7 % at 1.9e-4, at most 2.6 % from 2e-4 on; the taut bag, which
+    // leaves the platens pressed at p0, 6 % at 4e-5 and 1.3 % after the ramp). So the check starts at 3 ramps.
+    const double settled_strain = 15 * default_compression_rate_number(p0, Material().youngs_modulus);
     double peak = 0, gap = 0;
     for (const CrystalRow& row : r.curve) {
       peak = std::max(peak, row.deviator);
-      if (row.deviator > p0 && row.strain > ramp_strain)
+      if (row.deviator > p0 && row.strain > settled_strain)
         gap = std::max(gap, std::abs(row.stress_top - row.stress_bottom) / (row.deviator + p0));
     }
     EXPECT_GT(peak, p0) << to_string(lattice);
