@@ -42,8 +42,10 @@ TEST(LatticeCompression, EveryLatticeConfinesToP0AndCarriesLoad) {
     EXPECT_TRUE(c.converged) << to_string(lattice) << ": " << c.steps << " steps";
     EXPECT_NEAR(c.stress_top, p0, 0.01 * p0) << to_string(lattice);
     EXPECT_NEAR(c.stress_bottom, p0, 0.01 * p0) << to_string(lattice);
-    EXPECT_NEAR(c.lateral_stress_x, p0, 0.1 * p0) << to_string(lattice);
-    EXPECT_NEAR(c.lateral_stress_y, p0, 0.1 * p0) << to_string(lattice);
+    // The wrapped bag holds the lattice as built, which carries p0 in every direction (measured: within 1e-5 p0; a
+    // virial that left out the bag's lever from face to grain centre read 0.75 p0 here, (n - 1)/n for n = 4).
+    EXPECT_NEAR(c.lateral_stress_x, p0, 0.01 * p0) << to_string(lattice);
+    EXPECT_NEAR(c.lateral_stress_y, p0, 0.01 * p0) << to_string(lattice);
     // Along these axes no close-packed or cube plane is inclined to the load, so the crystals stiffen rather than
     // yield early: they carry a deviator well above p0 by 0.2 % strain, with the top and bottom platens agreeing once
     // the loading has settled. The platen accelerates over ten wave transits, 5 R of strain (7.5e-5 at the default
