@@ -144,7 +144,8 @@ class CrystalSample {
   /// times the distance between the load centres of the two x faces (same for y). By the virial
   /// identity this equals p0 when every grain is in equilibrium under contacts and bag alone, so it
   /// measures how well the packing carries the bag's load (inertia or wall shear show up as a gap). With the wrapped
-  /// bag (wrap_bag()), over the volume its faces enclose along each axis (the integral of x_k n_k over them).
+  /// bag (wrap_bag()): (sum of f_k l_k + each pressed face's F c_k n_k, c its centroid from the grain's centre) over
+  /// the volume its faces enclose along k (the sum of (x + c)_k n_k area over them).
   std::pair<double, double> lateral_stresses() const;
   /// Kinetic over elastic energy of the contacts (-), 0 without contacts.
   double kinetic_elastic_ratio() const;

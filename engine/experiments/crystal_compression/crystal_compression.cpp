@@ -142,6 +142,12 @@ std::string percent(double strain) {
 
 }  // namespace
 
+bool bag_wraps(const CrystalParams& p) {
+  return p.confinement == Confinement::membrane && p.knockout_ids.empty() && p.knockout_regions.empty();
+}
+
+bool bag_packs_first(const CrystalParams& p) { return bag_wraps(p) && p.imperfections.any(); }
+
 // How much of the strain reached a release to a deviator of 0 gives back (-): mostly the bag pushing the bulged
 // crystal back, so more the thicker the crystal. Measured (bench/README.md, "Cost estimates"; N_e = 4 and 10,
 // 30 kPa, released from 0.5 and 1 %): 3 {111} layers gave back 6-24 %, 6 layers 29-44 %.
@@ -153,11 +159,6 @@ static double release_fraction(const CrystalParams& p) { return 0.45 * std::clam
 // exponential approach, 3 ramps to 5 % of full speed) then at 5 % for the rest (one more ramp): 3 ramps
 // lost. A release to a deviator slows down the same way (its distance left extrapolated from the deviator
 // left), even as the last segment, and gives back release_fraction() of the strain reached.
-bool bag_wraps(const CrystalParams& p) {
-  return p.confinement == Confinement::membrane && p.knockout_ids.empty() && p.knockout_regions.empty();
-}
-
-bool bag_packs_first(const CrystalParams& p) { return bag_wraps(p) && p.imperfections.any(); }
 
 double expected_compression_confinement_steps(const CrystalParams& p) {
   if (p.confinement == Confinement::face_forces) return 0;

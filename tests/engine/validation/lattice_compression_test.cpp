@@ -81,7 +81,7 @@ double axial_first_yield(const CrystalParams& p) {
 
 // The closed form assumes a uniform lateral stress p0: a pressure, which the default wrapped bag is (p0 on every
 // exposed face). Issue 51's sizes: 4 grains wide (x), aspect ratios about 2 and 4, f = 0.2 and 0.35. (The taut bag,
-// `membrane`, gave no deviator at all on 4 x 6 x 6 at f = 0.2, docs/model.md "Why the taut bag fails on staircase
+// `taut_membrane`, the default until 2026-12-07, gave no deviator at all on 4 x 6 x 6 at f = 0.2, docs/model.md "Why the taut bag fails on staircase
 // faces"; 10 grains wide, 10 x 14 x 14 and 7 x 24 x 12, came within 4 % in the wrapped bag, docs/results.md.)
 TEST(LatticeCompression, SimpleCubicSlidesOnItsCubeFacesAtCoulombsStress) {
   const double p0 = 30e3;
