@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/machine.h"
 #include "bench/lammps_files.h"
 #include "engine/crystal/crystal_lattice.h"
 #include "engine/model/model.h"
@@ -122,6 +123,7 @@ void write_lammps(const std::string& dir, const World& world, const Material& ma
 }  // namespace
 
 int main(int argc, char** argv) try {
+  granulab::print_machine();
   const Options o = parse(argc, argv);
   if (o.threads > 0) omp_set_num_threads(o.threads);
 

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "bench/machine.h"
 #include "engine/model/model.h"
 #include "engine/experiments/two_cube_sliding/two_cube_sliding.h"
 #include "engine/world/world.h"
@@ -81,6 +82,7 @@ void dense_block(int per_side, int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  granulab::print_machine();
   int per_side = 0, steps = 2000;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];

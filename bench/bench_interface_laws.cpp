@@ -27,6 +27,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "bench/machine.h"
 #include "bench/lammps_files.h"
 #include "engine/model/model.h"
 #include "engine/world/world.h"
@@ -72,6 +73,7 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) try {
+  granulab::print_machine();
   const Options o = parse(argc, argv);
   NormalModel normal;
   if (!normal_model_from_string(o.law, normal) ||

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/machine.h"
 #include "engine/crystal/crystal_sample.h"
 #include "engine/geometry/grain_template.h"
 
@@ -29,6 +30,7 @@ struct Case {
 }  // namespace
 
 int main(int argc, char** argv) {
+  granulab::print_machine();
   double target = 1e5;
   int steps = 1000, edge_spheres = 4;
   for (int i = 1; i + 1 < argc; i += 2) {

@@ -11,12 +11,14 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "bench/machine.h"
 #include "engine/crystal/crystal_sample.h"
 #include "engine/crystal/crystal_snapshot.h"
 
 using namespace granulab;
 
 int main(int argc, char** argv) {
+  granulab::print_machine();
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   CrystalSampleParams p;  // the paper's crystal: 8 x 18 x 6, N_e = 10
   if (argc > 2) p.grain.edge_spheres = std::atoi(argv[2]);

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/machine.h"
 #include "engine/crystal/confinement.h"
 #include "engine/crystal/crystal_sample.h"
 
@@ -33,6 +34,7 @@ std::vector<double> numbers(const std::string& list) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  granulab::print_machine();
   std::vector<double> factors{0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5};
   CrystalSampleParams p;
   p.grain.edge_spheres = 4;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "bench/machine.h"
 #include "engine/analysis/yield_estimate.h"
 
 using namespace granulab;
@@ -24,6 +25,7 @@ double best_ms(int repeats, F f) {
 }
 
 int main(int argc, char** argv) {
+  granulab::print_machine();
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 20;
   struct Axis {
     const char* name;

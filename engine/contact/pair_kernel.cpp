@@ -173,4 +173,21 @@ PairKernel pair_kernel(const ContactLaw& law) {
   return nullptr;
 }
 
+const char* pair_kernel_isa() {
+  // This translation unit's own flags decide (engine/CMakeLists.txt gives it options of its own).
+#if defined(__AVX512F__)
+  return "avx512f";
+#elif defined(__AVX2__) && defined(__FMA__)
+  return "avx2+fma";
+#elif defined(__AVX2__)
+  return "avx2";
+#elif defined(__AVX__)
+  return "avx";
+#elif defined(__SSE2__)
+  return "sse2";
+#else
+  return "generic";
+#endif
+}
+
 }  // namespace granulab

@@ -55,4 +55,8 @@ using PairKernel = PairKernelSums (*)(const PairKernelConstants& c, const Offset
 /// The kernel of `law`'s normal and tangential models: chosen once per run, each compiled for its law.
 PairKernel pair_kernel(const ContactLaw& law);
 
+/// The widest x86 vector instruction set the contact kernels were compiled for: "avx512f", "avx2+fma", "avx2",
+/// "avx" or "sse2" (the x86-64 baseline, GRANULAB_NATIVE=OFF); "generic" off x86. Benchmarks print it beside the CPU.
+const char* pair_kernel_isa();
+
 }  // namespace granulab
