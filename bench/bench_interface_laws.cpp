@@ -73,7 +73,7 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) try {
-  granulab::print_machine();
+  granulab::print_machine(stderr);  // stdout is the CSV
   const Options o = parse(argc, argv);
   NormalModel normal;
   if (!normal_model_from_string(o.law, normal) ||

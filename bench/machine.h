@@ -11,7 +11,8 @@
 
 namespace granulab {
 
-inline void print_machine() {
+/// To `out`: stdout for the tables people read, stderr for a program whose stdout is data (bench_interface_laws).
+inline void print_machine(std::FILE* out = stdout) {
   std::ifstream in("/proc/cpuinfo");
   std::string line, model = "unknown CPU", family, number, flags;
   while (std::getline(in, line)) {
@@ -27,7 +28,7 @@ inline void print_machine() {
   std::string sets;
   for (const char* f : {"sse2", "avx", "avx2", "fma", "avx512f", "avx512vl"})
     if (flags.find(std::string(" ") + f + " ") != std::string::npos) sets += std::string(sets.empty() ? "" : " ") + f;
-  std::printf("machine: %s; vector sets: %s; contact kernel compiled for %s\n", model.c_str(),
+  std::fprintf(out, "machine: %s; vector sets: %s; contact kernel compiled for %s\n", model.c_str(),
               sets.empty() ? "none reported" : sets.c_str(), pair_kernel_isa());
 }
 
