@@ -1,5 +1,5 @@
 // What a benchmark ran on: the CPU's model and vector instruction sets (as /proc/cpuinfo reports them, what
-// `lscpu` shows) and the instruction set the contact kernels were compiled for. Every speed figure in
+// `lscpu` shows) and the contact kernel the program runs (GRANULAB_KERNEL chooses another). Every speed figure in
 // bench/README.md names its machine; the programs print this line first so a pasted result carries it.
 #pragma once
 
@@ -28,8 +28,11 @@ inline void print_machine(std::FILE* out = stdout) {
   std::string sets;
   for (const char* f : {"sse2", "avx", "avx2", "fma", "avx512f", "avx512vl"})
     if (flags.find(std::string(" ") + f + " ") != std::string::npos) sets += std::string(sets.empty() ? "" : " ") + f;
-  std::fprintf(out, "machine: %s; vector sets: %s; contact kernel compiled for %s\n", model.c_str(),
-              sets.empty() ? "none reported" : sets.c_str(), pair_kernel_isa());
+  std::string kernels;
+  for (const PairKernelInfo& k : pair_kernels())
+    kernels += std::string(kernels.empty() ? "" : ", ") + k.name + (k.runs_here ? "" : " (not on this CPU)");
+  std::fprintf(out, "machine: %s; vector sets: %s; contact kernel %s (this binary has %s)\n", model.c_str(),
+               sets.empty() ? "none reported" : sets.c_str(), resolve_pair_kernel("").c_str(), kernels.c_str());
 }
 
 }  // namespace granulab

@@ -8,6 +8,7 @@
 #include <exception>
 #include <string>
 
+#include "engine/contact/pair_kernel.h"
 #include "engine/crystal/speed_probe.h"
 #include "server/speed_model.h"
 
@@ -55,8 +56,9 @@ void MachineSpeed::measure() {
   }
   const double best = best_locked();
   if (attempts_ == 1 && best > 0)
-    spdlog::info("speed probe: {:.3g} sphere-steps/s on 2 threads, {:.2f} x the machine of the benchmark table", best,
-                 best / table_machine_probe());
+    spdlog::info("speed probe: {:.3g} sphere-steps/s on 2 threads with the {} contact kernel, {:.2f} x the machine "
+                 "of the benchmark table",
+                 best, resolve_pair_kernel(""), best / table_machine_probe());
   else if (attempts_ == 1)
     spdlog::warn("speed probe failed ({}): cost estimates use the benchmark table as measured",
                  failure.empty() ? "no reading" : failure);

@@ -1,6 +1,9 @@
 #include "engine/contact/pair_kernel.h"
 
-#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "engine/contact/pair_kernel_isa.h"
 
 namespace granulab {
 
@@ -8,186 +11,73 @@ OffsetArrays::OffsetArrays(const std::vector<Vec3>& offsets) {
   for (const Vec3& o : offsets) x.push_back(o.x()), y.push_back(o.y()), z.push_back(o.z());
 }
 
+void KernelScratch::reserve(std::size_t n) {
+  if (index.size() >= n) return;
+  for (std::vector<double>* v : {&oix, &oiy, &oiz, &ojx, &ojy, &ojz, &hx, &hy, &hz, &bond}) v->resize(n);
+  index.resize(n);
+}
+
 namespace {
 
-// The constants of one grain pair, unpacked into scalars for the vector loops.
-struct Frame {
-  double a00, a01, a02, a10, a11, a12, a20, a21, a22;
-  double b00, b01, b02, b10, b11, b12, b20, b21, b22;
-  double dxx, dxy, dxz, d2;
-  explicit Frame(const PairKernelConstants& c)
-      : a00(c.ra(0, 0)),
-        a01(c.ra(0, 1)),
-        a02(c.ra(0, 2)),
-        a10(c.ra(1, 0)),
-        a11(c.ra(1, 1)),
-        a12(c.ra(1, 2)),
-        a20(c.ra(2, 0)),
-        a21(c.ra(2, 1)),
-        a22(c.ra(2, 2)),
-        b00(c.rb(0, 0)),
-        b01(c.rb(0, 1)),
-        b02(c.rb(0, 2)),
-        b10(c.rb(1, 0)),
-        b11(c.rb(1, 1)),
-        b12(c.rb(1, 2)),
-        b20(c.rb(2, 0)),
-        b21(c.rb(2, 1)),
-        b22(c.rb(2, 2)),
-        dxx(c.xa.x() - c.xb.x()),
-        dxy(c.xa.y() - c.xb.y()),
-        dxz(c.xa.z() - c.xb.z()),
-        d2(c.diameter * c.diameter) {}
-};
-
-// Sphere i of a relative to x_a (a*) and the centre-to-centre vector r = c_i - c_j, both in the world frame.
-struct Relative {
-  double ax, ay, az, rx, ry, rz;
-};
-
-inline __attribute__((always_inline)) Relative relative(const Frame& f, const OffsetArrays& o, std::uint32_t key) {
-  const std::uint32_t i = key >> 16, j = key & 0xffff;
-  const double oix = o.x[i], oiy = o.y[i], oiz = o.z[i], ojx = o.x[j], ojy = o.y[j], ojz = o.z[j];
-  Relative r;
-  r.ax = f.a00 * oix + f.a01 * oiy + f.a02 * oiz, r.ay = f.a10 * oix + f.a11 * oiy + f.a12 * oiz,
-  r.az = f.a20 * oix + f.a21 * oiy + f.a22 * oiz;
-  const double bx = f.b00 * ojx + f.b01 * ojy + f.b02 * ojz, by = f.b10 * ojx + f.b11 * ojy + f.b12 * ojz,
-               bz = f.b20 * ojx + f.b21 * ojy + f.b22 * ojz;
-  r.rx = f.dxx + r.ax - bx, r.ry = f.dxy + r.ay - by, r.rz = f.dxz + r.az - bz;
-  return r;
+// Whether this CPU runs a kernel: what it reports (cpuid, through GCC's builtins), read once.
+bool cpu_runs(const std::string& name) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();  // the tests ask before main(), from static initialisers
+  if (name == "avx512")
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+           __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (name == "avx2") return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+  return name == kBaselineKernel;
 }
 
-struct Contribution {
-  double fx, fy, fz, mx, my, mz, overlap, energy, damping, friction;
-  std::uint32_t contact, slip;
-};
-
-// One candidate: its geometry, then the law (contact_terms), then the moment about x_a.
-template <NormalModel N, TangentialModel T>
-inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r,
-                                                           double& hx_io, double& hy_io, double& hz_io,
-                                                           double& bond_io) {
-  const double d = c.diameter, radius = c.radius;
-  const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
-  const bool touching = dist2 < d * d;
-  const double inv = 1 / std::sqrt(dist2);
-  const double delta = d - dist2 * inv;
-  const double nx = r.rx * inv, ny = r.ry * inv, nz = r.rz * inv;
-  // Contact point relative to x_a, and the relative velocity there.
-  const double lever = radius - 0.5 * delta;
-  const double px = r.ax - lever * nx, py = r.ay - lever * ny, pz = r.az - lever * nz;
-  const double vx = c.v0.x() + c.dw.y() * pz - c.dw.z() * py, vy = c.v0.y() + c.dw.z() * px - c.dw.x() * pz,
-               vz = c.v0.z() + c.dw.x() * py - c.dw.y() * px;
-  const Vec3 &u0 = c.v0_damping, &du = c.dw_damping;
-  const double wx = u0.x() + du.y() * pz - du.z() * py, wy = u0.y() + du.z() * px - du.x() * pz,
-               wz = u0.z() + du.x() * py - du.y() * px;
-  const ContactTerms t =
-      contact_terms<N, T>(c.law, delta, touching, nx, ny, nz, vx, vy, vz, wx, wy, wz, hx_io, hy_io, hz_io, bond_io);
-  Contribution out;
-  out.fx = t.fx, out.fy = t.fy, out.fz = t.fz;
-  out.mx = py * out.fz - pz * out.fy, out.my = pz * out.fx - px * out.fz, out.mz = px * out.fy - py * out.fx;
-  out.contact = t.contact;
-  out.slip = t.slip;
-  out.overlap = t.overlap, out.energy = t.energy, out.damping = t.damping, out.friction = t.friction;
-  return out;
-}
-
-template <NormalModel N, TangentialModel T>
-PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offsets, const std::uint32_t* keys,
-                             std::uint32_t count, double* history_x, double* history_y, double* history_z,
-                             double* bond_flags, std::uint32_t* touching_scratch) {
-  constexpr bool bonds = N == NormalModel::jkr;
-  const Frame f(c);
-  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0, damping = 0, friction = 0;
-  std::uint32_t contacts = 0, sliding = 0;
-  // A law without bonds gets a scratch flag per candidate that it never reads.
-  double unused = 0;
-
-  if (!touching_scratch) {
-#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
-    for (std::uint32_t k = 0; k < count; ++k) {
-      double& bond = bonds ? bond_flags[k] : unused;
-      const Contribution q =
-          contact<N, T>(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k], bond);
-      fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
-      overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
-      contacts += q.contact, sliding += q.slip;
-    }
-  } else {
-    // Pass 1, every candidate: the distance only; pairs out of reach forget their history (and bond) here. A bonded
-    // jkr pair reaches to d + delta_c.
-    std::uint32_t* flag = touching_scratch;
-    const double d2 = f.d2, bonded_reach = c.diameter + c.law.break_depth, bonded_d2 = bonded_reach * bonded_reach;
-#pragma omp simd
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const Relative r = relative(f, offsets, keys[k]);
-      const double reach2 = bonds && bond_flags[k] > 0 ? bonded_d2 : d2;
-      const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < reach2;
-      flag[k] = touching;
-      if (!touching) history_x[k] = 0.0, history_y[k] = 0.0, history_z[k] = 0.0;
-      if (bonds && !touching) bond_flags[k] = 0.0;
-    }
-    // Pass 2, the indices of the touching ones (in place: n <= k), then the law on them only.
-    std::uint32_t n = 0;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint32_t t = flag[k];
-      flag[n] = k;
-      n += t;
-    }
-    const std::uint32_t* index = flag;
-#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
-    for (std::uint32_t m = 0; m < n; ++m) {
-      const std::uint32_t k = index[m];
-      double& bond = bonds ? bond_flags[k] : unused;
-      const Contribution q =
-          contact<N, T>(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k], bond);
-      fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
-      overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
-      contacts += q.contact, sliding += q.slip;
-    }
-  }
-  PairKernelSums s;
-  s.force = Vec3(fx, fy, fz);
-  s.moment = Vec3(mx, my, mz);
-  s.contacts = contacts, s.sliding = sliding, s.overlap = overlap, s.energy = energy;
-  s.damping = damping, s.friction = friction;
-  return s;
-}
-
-template <NormalModel N>
-PairKernel kernel_of(TangentialModel t) {
-  return t == TangentialModel::mindlin ? &pair_contacts<N, TangentialModel::mindlin>
-                                       : &pair_contacts<N, TangentialModel::linear_history>;
+PairKernel kernel_named(const std::string& name, const ContactLaw& law) {
+  if (name == "avx512") return kernel_avx512::kernel(law);
+  if (name == "avx2") return kernel_avx2::kernel(law);
+  if (name == kBaselineKernel) return kernel_baseline::kernel(law);
+  return nullptr;
 }
 
 }  // namespace
 
-PairKernel pair_kernel(const ContactLaw& law) {
-  switch (law.normal) {
-    case NormalModel::hooke: return kernel_of<NormalModel::hooke>(law.tangential);
-    case NormalModel::hertz: return kernel_of<NormalModel::hertz>(law.tangential);
-    case NormalModel::hertz_material: return kernel_of<NormalModel::hertz_material>(law.tangential);
-    case NormalModel::dmt: return kernel_of<NormalModel::dmt>(law.tangential);
-    case NormalModel::jkr: return kernel_of<NormalModel::jkr>(law.tangential);
+std::vector<PairKernelInfo> pair_kernels() {
+  std::vector<PairKernelInfo> out;
+  for (const char* name : {"avx512", "avx2", kBaselineKernel}) {
+    if (!kernel_named(name, ContactLaw{})) continue;  // not in this build (off x86-64)
+    out.push_back({name, cpu_runs(name)});
   }
-  return nullptr;
+  return out;
 }
 
-const char* pair_kernel_isa() {
-  // This translation unit's own flags decide (engine/CMakeLists.txt gives it options of its own).
-#if defined(__AVX512F__)
-  return "avx512f";
-#elif defined(__AVX2__) && defined(__FMA__)
-  return "avx2+fma";
-#elif defined(__AVX2__)
-  return "avx2";
-#elif defined(__AVX__)
-  return "avx";
-#elif defined(__SSE2__)
-  return "sse2";
-#else
-  return "generic";
-#endif
+const char* best_pair_kernel() {
+  static const char* best = [] {
+    for (const PairKernelInfo& k : pair_kernels())
+      if (k.runs_here) return k.name;
+    return kBaselineKernel;
+  }();
+  return best;
+}
+
+std::string resolve_pair_kernel(const std::string& asked) {
+  // The environment's choice stands in for a run that names none (benchmarks, tests).
+  const char* env = std::getenv("GRANULAB_KERNEL");
+  const std::string requested = asked.empty() && env ? env : asked;
+  if (requested.empty() || requested == "auto") return best_pair_kernel();
+  std::string names;
+  for (const PairKernelInfo& k : pair_kernels()) {
+    if (k.name == requested) {
+      if (k.runs_here) return requested;
+      throw std::invalid_argument("kernel '" + requested + "' needs instructions this CPU lacks; it runs " +
+                                  best_pair_kernel() + " and below");
+    }
+    names += std::string(names.empty() ? "" : ", ") + k.name;
+  }
+  throw std::invalid_argument("unknown kernel '" + requested + "': one of auto, " + names);
+}
+
+PairKernel pair_kernel(const ContactLaw& law, const std::string& kernel) {
+  return kernel_named(resolve_pair_kernel(kernel), law);
 }
 
 }  // namespace granulab

@@ -1,13 +1,15 @@
 // The sphere-sphere contact loop of one grain pair, written for SIMD: plain arrays, no branches in
-// the body (selects instead), so the compiler vectorises it across contacts (AVX2/AVX-512 with
-// -march=native). Per candidate it measures the geometry and calls contact_law.h's contact_terms, the one
-// evaluator of the law, compiled once per pair of normal and tangential models (pair_kernel()).
+// the body (selects instead), so the compiler vectorises it across contacts. Per candidate it measures the geometry
+// and calls contact_law.h's contact_terms, the one evaluator of the law, compiled once per pair of normal and
+// tangential models and once per instruction set (baseline, AVX2, AVX-512; pair_kernel_body.h): one binary runs the
+// widest its CPU has, chosen at start (pair_kernel()).
 // Sphere positions are computed from the two grains' poses and the shared template offsets, which
 // stay in cache, rather than loaded from a per-sphere array that does not (at 841,536 spheres the
 // loads missed the cache and cost 4x the arithmetic).
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/contact/contact_law.h"
@@ -42,21 +44,51 @@ struct OffsetArrays {
   explicit OffsetArrays(const std::vector<Vec3>& offsets);
 };
 
+/// Room for the two-pass path (PairKernel), per thread: the touching candidates' indices, and their spheres' offsets
+/// (m), histories (m) and bond flags packed together, so the law's loop reads and writes consecutive elements.
+struct KernelScratch {
+  std::vector<std::uint32_t> index;
+  std::vector<double> oix, oiy, oiz, ojx, ojy, ojz, hx, hy, hz, bond;
+
+  /// Room for n candidates (grows only).
+  void reserve(std::size_t n);
+};
+
 /// Contacts between the spheres of grains a and b (template body-frame `offsets`) for the `count`
 /// sphere-pair keys at `keys`, updating their shear histories (components at hx, hy, hz) and, for a law that keeps
 /// bonds (jkr), their bond flags at `bond` (nullptr otherwise).
-/// With `touching_scratch` (room for `count` values), the distances are computed first and the law only
+/// With `scratch` (room for `count` candidates), the distances are computed first and the law only
 /// for the touching pairs: cheaper when most candidates do not touch (sliding faces, loose packings),
 /// dearer when nearly all do. The physics is the same; the sums' rounding differs.
 using PairKernel = PairKernelSums (*)(const PairKernelConstants& c, const OffsetArrays& offsets,
                                       const std::uint32_t* keys, std::uint32_t count, double* hx, double* hy,
-                                      double* hz, double* bond, std::uint32_t* touching_scratch);
+                                      double* hz, double* bond, KernelScratch* scratch);
 
-/// The kernel of `law`'s normal and tangential models: chosen once per run, each compiled for its law.
-PairKernel pair_kernel(const ContactLaw& law);
+/// The baseline kernel's name: the x86-64 baseline (SSE2) on x86-64; "generic" elsewhere.
+#if defined(__x86_64__)
+inline constexpr const char* kBaselineKernel = "sse2";
+#else
+inline constexpr const char* kBaselineKernel = "generic";
+#endif
 
-/// The widest x86 vector instruction set the contact kernels were compiled for: "avx512f", "avx2+fma", "avx2",
-/// "avx" or "sse2" (the x86-64 baseline, GRANULAB_NATIVE=OFF); "generic" off x86. Benchmarks print it beside the CPU.
-const char* pair_kernel_isa();
+/// A contact kernel of this binary: "avx512" (AVX-512 F/CD/DQ/BW/VL, 512-bit vectors), "avx2" (AVX2 + FMA) or the
+/// baseline, each compiled from the same source (pair_kernel_body.h) whatever the build's -march.
+struct PairKernelInfo {
+  const char* name;
+  bool runs_here;  ///< whether this CPU has its instructions
+};
+/// Every kernel of this binary, widest first.
+std::vector<PairKernelInfo> pair_kernels();
+/// The widest kernel this CPU runs: what `auto` chooses.
+const char* best_pair_kernel();
+/// The kernel a run asks for by name: "auto" gives best_pair_kernel(), and so does "" unless the environment's
+/// GRANULAB_KERNEL names one (for benchmarks and tests); an unknown name, or one the CPU cannot run, throws
+/// std::invalid_argument saying which kernels there are.
+std::string resolve_pair_kernel(const std::string& requested);
+
+/// The kernel of `law`'s normal and tangential models in the instruction set `kernel` names (resolve_pair_kernel()):
+/// chosen once per run, each compiled for its law. Kernels may differ in their results' last bits (the sums reduce in
+/// as many lanes as the vectors have; docs/model.md).
+PairKernel pair_kernel(const ContactLaw& law, const std::string& kernel = "");
 
 }  // namespace granulab

@@ -21,6 +21,7 @@ WorldSettings crystal_settings(const CrystalSampleParams& p, const GrainTemplate
   // A smaller grain has the same contact stiffness and less mass: its contact time goes as scale^1.5.
   if (s.min_scale < 1) s.time_step *= std::pow(s.min_scale, 1.5);
   s.skin = p.skin_factor * grain.diameter();
+  s.kernel = p.kernel;
   s.local_damping.translational = p.local_damping;
   s.local_damping.rotational = p.local_damping_rotational < 0 ? p.local_damping : p.local_damping_rotational;
   s.damping_velocity = p.damping_velocity;

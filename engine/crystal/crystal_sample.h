@@ -43,6 +43,7 @@ struct CrystalSampleParams {
   double wall_friction = -1;         ///< platens' Coulomb coefficient (-); negative: material.friction
   double time_step_factor = 0.3;     ///< dt / t0 (-); with quarter-step dashpots (docs/model.md, "Time step")
   double skin_factor = 0.01;         ///< skin / d (-); see crystal_skin_factor()
+  std::string kernel = "auto";       ///< the contact kernel's instruction set (pair_kernels()); auto: the widest here
   double local_damping = 0;          ///< lambda of each grain's net force (-); 0: none (integrator.h, LocalDamping)
   double local_damping_rotational = -1;  ///< lambda of its net torque (-); negative: local_damping
   DampingVelocity damping_velocity = DampingVelocity::quarter_step;  ///< what the dashpots see (world.h)

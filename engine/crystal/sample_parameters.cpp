@@ -151,7 +151,7 @@ void visit_crystal_sample(ParameterVisitor& v, CrystalSampleParams& p, Indices* 
               "a " + lattice + " crystal's grains are ");
   visit_material(v, p.material);
   p.skin_factor = crystal_skin_factor(p.grain.overlap);
-  visit_integration(v, p.time_step_factor, p.skin_factor);
+  visit_integration(v, p.time_step_factor, p.skin_factor, p.kernel);
   v.number("local_damping", p.local_damping, {0, 0.99}, "-",
            "lambda of each grain's local (non-viscous) damping: every component of its net force loses lambda times "
            "its magnitude against that component of its velocity (Yade's NewtonIntegrator.damping); 0: none, the "

@@ -10,6 +10,7 @@ void write_run_stats(SummaryWriter& w, const RunStats& r) {
   w.number("time_step", r.time_step, "s");
   w.number("wall_seconds", r.wall_seconds, "s");
   w.count("threads", std::uint64_t(r.threads));
+  w.text("kernel", r.kernel);
   w.number("sphere_steps_per_second", r.wall_seconds > 0 ? sphere_steps / r.wall_seconds : 0.0, "1/s");
   w.number("seconds_per_step", r.steps > 0 ? r.wall_seconds / double(r.steps) : 0.0, "s");
   w.number("sphere_diameter", r.sphere_diameter, "m");

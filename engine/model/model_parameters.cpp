@@ -1,5 +1,7 @@
 #include "engine/model/model_parameters.h"
 
+#include "engine/contact/pair_kernel.h"
+
 namespace granulab {
 
 void visit_grain(ParameterVisitor& v, GrainGeometry& g, const std::vector<Shape>& shapes, const std::string& why) {
@@ -55,10 +57,23 @@ void visit_interface_law(ParameterVisitor& v, Material& m) {
                 " (without surface energy use hertz/material)");
 }
 
-void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor) {
+void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor, std::string& kernel) {
   v.section("run");
   v.number("time_step_factor", time_step_factor, {0, 0.5, true}, "-", "dt / t0, t0 = sqrt(m / (E A_face / size))");
   v.number("skin_factor", skin_factor, {0, 1, true}, "-", "neighbour-list skin / d");
+  std::vector<std::string> names{"auto"};
+  for (const PairKernelInfo& k : pair_kernels()) names.push_back(k.name);
+  v.choice("kernel", kernel, names,
+           "the contact kernel's instruction set: auto, the widest this CPU runs (avx512 > avx2 > the baseline); "
+           "avx512 (AVX-512 F/CD/DQ/BW/VL), avx2 (AVX2 + FMA), sse2 (the x86-64 baseline) force one, for comparisons. "
+           "Kernels differ in their results' last bits only (docs/model.md, \"Contact kernels\"); summary.json names "
+           "the one that ran");
+  bool runs = true;
+  for (const PairKernelInfo& k : pair_kernels())
+    if (kernel == k.name) runs = k.runs_here;
+  v.require(runs, "run.kernel",
+            "'run.kernel' " + kernel + " needs instructions this CPU lacks; it runs " + best_pair_kernel() +
+                " and below (or auto)");
 }
 
 }  // namespace granulab

@@ -21,6 +21,8 @@ void visit_material(ParameterVisitor& v, Material& m);
 /// The "contact" section: the interface law's models and their parameters.
 void visit_interface_law(ParameterVisitor& v, Material& m);
 /// The engine knobs of the "run" section: dt / t0 and the neighbour skin / d.
-void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor);
+/// The run's integration: time step, skin, and the contact kernel's instruction set (refused, naming run.kernel, where
+/// this CPU lacks it).
+void visit_integration(ParameterVisitor& v, double& time_step_factor, double& skin_factor, std::string& kernel);
 
 }  // namespace granulab

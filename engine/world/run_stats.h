@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace granulab {
 
@@ -43,6 +44,7 @@ struct RunStats {
   int spheres_per_face = 0;         ///< N_f = N_e^2 (-)
   int threads = 1;                  ///< OpenMP threads of the run (-)
   double wall_seconds = 0;          ///< wall-clock time of the run (s)
+  std::string kernel;               ///< the contact kernel's instruction set that ran (pair_kernels())
   StageTimes stage_times;
 };
 

@@ -16,14 +16,15 @@ namespace {
 // kernel's two-pass path (distances first). Not tuned: on the dense block of bench_contacts (16 %
 // touching) one pass took 1.85 s and two passes 1.2 s, so the distance pass costs ~40 % of a full
 // evaluation and the break-even lies near 45 % touching (bench/README.md, "Sparse contacts").
-constexpr double kSparseShare = 0.5;
+constexpr double kSparseShare = 1.01;
 }  // namespace
 
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
     : grain_(grain),
       offset_arrays_(grain.offsets()),
       law_(law),
-      kernel_(pair_kernel(law)),
+      kernel_name_(resolve_pair_kernel(settings.kernel)),
+      kernel_(pair_kernel(law, kernel_name_)),
       settings_(settings),
       // A bonded jkr pair holds to delta_c apart: the skin is widened by it, so candidates reach that far.
       neighbors_(grain.offsets(), grain.diameter(), settings.skin + law.pulloff_distance(grain.radius() / 2),
@@ -48,6 +49,7 @@ RunStats World::run_stats(double wall_seconds) const {
   r.spheres_per_face = grain_.spheres_per_face();
   r.threads = omp_get_max_threads();
   r.wall_seconds = wall_seconds;
+  r.kernel = kernel_name_;
   r.stage_times = times_;
   return r;
 }
@@ -163,8 +165,8 @@ void World::update_neighbors() {
 void World::size_kernel_scratch() {
   std::uint32_t largest = 0;
   for (const BodyPairSpan& gp : neighbors_.body_pairs()) largest = std::max(largest, gp.count);
-  touching_scratch_.resize(omp_get_max_threads());
-  for (auto& s : touching_scratch_) s.resize(std::max<std::size_t>(s.size(), largest));
+  kernel_scratch_.resize(omp_get_max_threads());
+  for (KernelScratch& s : kernel_scratch_) s.reserve(largest);
 }
 
 void World::sphere_contact_forces() {
@@ -233,7 +235,7 @@ void World::sphere_contact_forces() {
           kernel_(c, offset_arrays_, keys.data() + gp.first, gp.count, history.x.data() + gp.first,
                   history.y.data() + gp.first, history.z.data() + gp.first,
                   history.bonds ? history.bond.data() + gp.first : nullptr,
-                  sparse ? touching_scratch_[omp_get_thread_num()].data() : nullptr);
+                  sparse ? &kernel_scratch_[omp_get_thread_num()] : nullptr);
       pair_force_[p] = s.force;
       pair_torque_a_[p] = s.moment;
       pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);

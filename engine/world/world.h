@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/boundary/wall.h"
@@ -35,6 +36,8 @@ struct WorldSettings {
   double min_scale = 1;         ///< the smallest body scale (Bodies::scale) add_grain will be given (-)
   LocalDamping local_damping{};  ///< none by default (integrator.h)
   DampingVelocity damping_velocity = DampingVelocity::half_step;
+  /// The contact kernel's instruction set (pair_kernels()): "" for the widest this CPU runs.
+  std::string kernel;
 };
 
 struct ContactStats {
@@ -81,6 +84,8 @@ class World {
   /// Force evaluations at which some candidates were searched again (grain pairs or walls).
   std::uint64_t rebuilds() const { return rebuilds_; }
   const StageTimes& stage_times() const { return times_; }
+  /// The instruction set of the contact kernel this world runs (settings().kernel resolved): "avx512", "avx2", "sse2".
+  const std::string& kernel() const { return kernel_name_; }
   /// For the stages an experiment times around the world's (membrane, control, record).
   StageTimes& stage_times() { return times_; }
   /// The run's statistics and model numbers as of now; `wall_seconds` is the caller's measure of the run.
@@ -121,7 +126,8 @@ class World {
   GrainTemplate grain_;
   OffsetArrays offset_arrays_;  // grain_'s offsets for the contact loop
   ContactLaw law_;
-  PairKernel kernel_;  // the contact loop compiled for law_'s models
+  std::string kernel_name_;  // the instruction set of kernel_ (resolve_pair_kernel())
+  PairKernel kernel_;        // the contact loop compiled for law_'s models
   WorldSettings settings_;
   Bodies bodies_;
   std::vector<Wall> walls_;
@@ -139,7 +145,7 @@ class World {
   std::vector<Vec3> damping_velocity_, damping_angular_velocity_;
   bool lagged_damping_ = false;
   std::vector<double> overlap_sum_;
-  std::vector<std::vector<std::uint32_t>> touching_scratch_;  // per thread, for the kernel's two-pass path
+  std::vector<KernelScratch> kernel_scratch_;  // per thread, for the kernel's two-pass path
   std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
   // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
   // centre (N m), and whether it touched.

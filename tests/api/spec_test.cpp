@@ -11,6 +11,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
+#include "engine/contact/pair_kernel.h"
 #include "api/curve_format.h"
 #include "api/runner.h"
 #include "api/spec.h"
@@ -111,6 +112,34 @@ TEST(SpecErrors, DuplicateKeysAreRefusedNamingTheField) {
   }
 }
 
+// run.kernel forces a contact kernel: one of the binary's, which this CPU runs; else a 400 naming the field.
+TEST(SpecErrors, KernelIsOneThisCpuRuns) {
+  for (const char* experiment : {"two_cube_sliding", "crystal_compression"}) {
+    const std::string head = std::string(R"({"experiment": ")") + experiment + R"(", "run": {"kernel": )";
+    try {
+      parse_spec_text(head + R"("avx3"}})");
+      ADD_FAILURE() << "accepted kernel avx3";
+    } catch (const SpecError& e) {
+      EXPECT_EQ(e.field, "run.kernel");
+      EXPECT_NE(std::string(e.what()).find(kBaselineKernel), std::string::npos) << e.what();
+    }
+    for (const PairKernelInfo& k : pair_kernels()) {
+      const std::string text = head + "\"" + k.name + "\"}}";
+      if (k.runs_here) {
+        EXPECT_EQ(parse_spec_text(text).normalized["run"]["kernel"], k.name);
+        continue;
+      }
+      try {
+        parse_spec_text(text);
+        ADD_FAILURE() << "accepted kernel " << k.name << ", which this CPU lacks";
+      } catch (const SpecError& e) {
+        EXPECT_EQ(e.field, "run.kernel");
+        EXPECT_NE(std::string(e.what()).find("lacks"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
 TEST(SpecDefaults, ExplicitValuesAreTaken) {
   const Spec spec = parse_spec_text(R"({"label": "run A",
       "grain": {"size": 0.02, "edge_spheres": 12.0, "overlap": 0.5},
@@ -188,6 +217,7 @@ TEST(SpecDefaults, CrystalDefaultsAreTheContractExample) {
   expected["run"]["local_damping_rotational"] = 0.0;
   // An extension: which velocity the dashpots see; the quarter step lets the default time step be 0.3 t0.
   expected["run"]["damping_velocity"] = "quarter_step";
+  expected["run"]["kernel"] = "auto";  // an extension: the contact kernel, the widest this CPU runs
   EXPECT_EQ(got, expected) << got.dump(2);
 }
 
@@ -294,7 +324,7 @@ TEST(SpecNormalized, TwoCubeContainsEveryDefault) {
       {"contact", kDefaultContact},
       {"loading", {{"prestrain", 0.005}, {"max_slide", 0.8}, {"rate_number", 1e-5}}},
       {"output", {{"curve_points", 400}}},
-      {"run", {{"threads", 0}, {"time_step_factor", 0.2}, {"skin_factor", 0.1}}},
+      {"run", {{"threads", 0}, {"time_step_factor", 0.2}, {"skin_factor", 0.1}, {"kernel", "auto"}}},
   };
   EXPECT_EQ(parse_spec_text("{}").normalized, expected) << parse_spec_text("{}").normalized.dump(2);
 }

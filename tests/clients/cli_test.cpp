@@ -180,6 +180,29 @@ TEST_F(CliTest, ExecStartsTheBinary) {
   EXPECT_NE(r.exit_code, 127) << "could not execute " << kBinary;
 }
 
+// One binary runs the widest contact kernel its CPU has, says which (summary.json, and the version's last part), and
+// takes another by run.kernel: the baseline, which every x86-64 CPU runs, gives the same curve to rounding.
+TEST_F(CliTest, RunReportsItsContactKernelAndTakesAForcedOne) {
+  const std::string version = run({"version"}).out;
+  const std::string widest = version.substr(version.rfind('.') + 1, version.find_last_not_of(" \n") - version.rfind('.'));
+  json forced = json::parse(kSmallSpec);
+  forced["run"]["kernel"] = "sse2";
+  std::vector<std::vector<double>> curves[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = dir_ / ("out" + std::to_string(k));
+    const RunResult r = run({"run", spec_file(k == 0 ? std::string(kSmallSpec) : forced.dump()).string(), "--out",
+                             out.string()});
+    ASSERT_EQ(r.exit_code, 0) << "stderr:\n" << r.err;
+    EXPECT_EQ(json::parse(slurp(out / "summary.json"))["kernel"], k == 0 ? widest : "sse2");
+    const std::vector<std::string> lines = lines_of(slurp(out / "curve.csv"));
+    for (std::size_t i = 1; i < lines.size(); ++i) curves[k].push_back(csv_numbers(lines[i]));
+  }
+  ASSERT_EQ(curves[0].size(), curves[1].size());
+  for (std::size_t i = 0; i < curves[0].size(); ++i)
+    for (std::size_t c = 1; c < 3; ++c)  // P / P0 and T / P0, of order 1
+      EXPECT_NEAR(curves[0][i][c], curves[1][i][c], 1e-9) << "row " << i << ", column " << c;
+}
+
 TEST_F(CliTest, RunWritesCurveSummaryAndSnapshots) {
   const fs::path spec = spec_file(kSmallSpec);
   const fs::path out = dir_ / "out";
@@ -535,15 +558,16 @@ TEST_F(CliTest, HelpAndVersionForEveryCommand) {
        std::vector<std::vector<std::string>>{{"--version"}, {"-V"}, {"run", "--version"}}) {
     const RunResult r = run(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)"))) << r.out;
+    EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\.[a-z0-9]+\s*)"))) << r.out;
   }
 }
 
 TEST_F(CliTest, VersionPrintsAVersionAndExitsZero) {
   const RunResult r = run({"version"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  // The project version and the hash of the sources that compute results (cmake/engine_version.cmake).
-  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\s*)")))
+  // The project version, the hash of the sources that compute results (cmake/engine_version.cmake) and the contact
+  // kernel this CPU runs.
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(granulab \d+\.\d+\.\d+\+[0-9a-f]{12}\.(avx512|avx2|sse2|generic)\s*)")))
       << "stdout: '" << r.out << "'";
 }
 

@@ -12,6 +12,7 @@ WorldSettings two_cube_settings(const TwoCubeParams& p, const GrainTemplate& gra
   WorldSettings s;
   s.time_step = p.time_step_factor * contact_time_scale(grain, p.material.youngs_modulus, p.material.density);
   s.skin = p.skin_factor * grain.diameter();
+  s.kernel = p.kernel;
   return s;
 }
 

@@ -22,6 +22,7 @@ struct TwoCubeParams {
   int curve_points = 400;         ///< rows of the curve after u = 0
   double time_step_factor = 0.2;  ///< dt / t0
   double skin_factor = 0.1;       ///< neighbour skin / d
+  std::string kernel = "auto";    ///< the contact kernel's instruction set (pair_kernels()); auto: the widest here
 };
 
 struct TwoCubeRow {

@@ -49,7 +49,7 @@ void TwoCubeSlidingExperiment::parameters(ParameterVisitor& v) {
   v.number("rate_number", p.rate_number, {1e-8, 0.1}, "-", "slide speed / sqrt(E/rho); 4/R steps at the default dt");
   v.section("output");
   v.integer("curve_points", p.curve_points, 1, 100000, "curve rows after u = 0");
-  visit_integration(v, p.time_step_factor, p.skin_factor);
+  visit_integration(v, p.time_step_factor, p.skin_factor, p.kernel);
 }
 
 Headline TwoCubeSlidingExperiment::headline() const {

@@ -1,0 +1,211 @@
+// The contact kernels' code, compiled once per instruction set: pair_kernel_<isa>.cpp each include it inside a
+// namespace of their own after `#pragma GCC target`, so that the same source gives the baseline, AVX2 and AVX-512
+// kernels of one binary (pair_kernel.cpp chooses among them at run time). No include guard, on purpose; every header
+// it needs is included by the including file before its pragma, so that inline functions shared with the rest of the
+// program are compiled for the baseline and never for a wider set (a copy the linker kept could then run, and trap, on
+// a CPU without it).
+//
+// Written for the compiler's vectoriser: plain arrays, no branches in the loops' bodies (selects instead), and nothing
+// AVX2 cannot do in a vector: no scatter (the touching candidates are packed first), no conversion of a comparison's
+// result to a number, no masked store (see the comments at each).
+
+// The constants of one grain pair, unpacked into scalars for the vector loops.
+struct Frame {
+  double a00, a01, a02, a10, a11, a12, a20, a21, a22;
+  double b00, b01, b02, b10, b11, b12, b20, b21, b22;
+  double dxx, dxy, dxz, d2;
+  explicit Frame(const PairKernelConstants& c)
+      : a00(c.ra(0, 0)),
+        a01(c.ra(0, 1)),
+        a02(c.ra(0, 2)),
+        a10(c.ra(1, 0)),
+        a11(c.ra(1, 1)),
+        a12(c.ra(1, 2)),
+        a20(c.ra(2, 0)),
+        a21(c.ra(2, 1)),
+        a22(c.ra(2, 2)),
+        b00(c.rb(0, 0)),
+        b01(c.rb(0, 1)),
+        b02(c.rb(0, 2)),
+        b10(c.rb(1, 0)),
+        b11(c.rb(1, 1)),
+        b12(c.rb(1, 2)),
+        b20(c.rb(2, 0)),
+        b21(c.rb(2, 1)),
+        b22(c.rb(2, 2)),
+        dxx(c.xa.x() - c.xb.x()),
+        dxy(c.xa.y() - c.xb.y()),
+        dxz(c.xa.z() - c.xb.z()),
+        d2(c.diameter * c.diameter) {}
+};
+
+// Sphere i of a relative to x_a (a*) and the centre-to-centre vector r = c_i - c_j, both in the world frame.
+struct Relative {
+  double ax, ay, az, rx, ry, rz;
+};
+
+// The offsets' arrays as raw pointers, read before the loops: GCC did not hoist the vectors' data pointers out of a
+// loop that stores, and a load of a pointer in the loop body stopped it from vectorising.
+struct Offsets {
+  const double *x, *y, *z;
+  explicit Offsets(const OffsetArrays& o) : x(o.x.data()), y(o.y.data()), z(o.z.data()) {}
+};
+
+inline __attribute__((always_inline)) Relative relative(const Frame& f, double oix, double oiy, double oiz, double ojx,
+                                                       double ojy, double ojz) {
+  Relative r;
+  r.ax = f.a00 * oix + f.a01 * oiy + f.a02 * oiz, r.ay = f.a10 * oix + f.a11 * oiy + f.a12 * oiz,
+  r.az = f.a20 * oix + f.a21 * oiy + f.a22 * oiz;
+  const double bx = f.b00 * ojx + f.b01 * ojy + f.b02 * ojz, by = f.b10 * ojx + f.b11 * ojy + f.b12 * ojz,
+               bz = f.b20 * ojx + f.b21 * ojy + f.b22 * ojz;
+  r.rx = f.dxx + r.ax - bx, r.ry = f.dxy + r.ay - by, r.rz = f.dxz + r.az - bz;
+  return r;
+}
+
+inline __attribute__((always_inline)) Relative relative(const Frame& f, const Offsets& o, std::uint32_t key) {
+  const std::uint32_t i = key >> 16, j = key & 0xffff;
+  return relative(f, o.x[i], o.y[i], o.z[i], o.x[j], o.y[j], o.z[j]);
+}
+
+// The counts are doubles, set by selects: a conversion of a comparison's result to a number has no AVX2 form (AVX-512
+// has mask registers), and kept GCC 12 from vectorising the loop there; so did integer counts summed beside doubles.
+struct Contribution {
+  double fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contact, slip;
+};
+
+// One candidate: its geometry, then the law (contact_terms), then the moment about x_a.
+template <NormalModel N, TangentialModel T>
+inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r,
+                                                           double& hx_io, double& hy_io, double& hz_io,
+                                                           double& bond_io) {
+  const double d = c.diameter, radius = c.radius;
+  const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
+  const bool touching = dist2 < d * d;
+  const double inv = 1 / std::sqrt(dist2);
+  const double delta = d - dist2 * inv;
+  const double nx = r.rx * inv, ny = r.ry * inv, nz = r.rz * inv;
+  // Contact point relative to x_a, and the relative velocity there.
+  const double lever = radius - 0.5 * delta;
+  const double px = r.ax - lever * nx, py = r.ay - lever * ny, pz = r.az - lever * nz;
+  const double vx = c.v0.x() + c.dw.y() * pz - c.dw.z() * py, vy = c.v0.y() + c.dw.z() * px - c.dw.x() * pz,
+               vz = c.v0.z() + c.dw.x() * py - c.dw.y() * px;
+  const Vec3 &u0 = c.v0_damping, &du = c.dw_damping;
+  const double wx = u0.x() + du.y() * pz - du.z() * py, wy = u0.y() + du.z() * px - du.x() * pz,
+               wz = u0.z() + du.x() * py - du.y() * px;
+  const ContactTerms t =
+      contact_terms<N, T>(c.law, delta, touching, nx, ny, nz, vx, vy, vz, wx, wy, wz, hx_io, hy_io, hz_io, bond_io);
+  Contribution out;
+  out.fx = t.fx, out.fy = t.fy, out.fz = t.fz;
+  out.mx = py * out.fz - pz * out.fy, out.my = pz * out.fx - px * out.fz, out.mz = px * out.fy - py * out.fx;
+  out.contact = t.contact ? 1.0 : 0.0;
+  out.slip = t.slip ? 1.0 : 0.0;
+  out.overlap = t.overlap, out.energy = t.energy, out.damping = t.damping, out.friction = t.friction;
+  return out;
+}
+
+template <NormalModel N, TangentialModel T>
+PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& offset_arrays, const std::uint32_t* keys,
+                             std::uint32_t count, double* history_x, double* history_y, double* history_z,
+                             double* bond_flags, KernelScratch* scratch) {
+  constexpr bool bonds = N == NormalModel::jkr;
+  const Frame f(c);
+  const Offsets offsets(offset_arrays);
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, overlap = 0, energy = 0, damping = 0, friction = 0;
+  double contacts = 0, sliding = 0;
+  // A law without bonds gets a scratch flag per candidate that it never reads.
+  double unused = 0;
+
+  if (!scratch) {
+#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
+    for (std::uint32_t k = 0; k < count; ++k) {
+      double& bond = bonds ? bond_flags[k] : unused;
+      const Contribution q =
+          contact<N, T>(c, relative(f, offsets, keys[k]), history_x[k], history_y[k], history_z[k], bond);
+      fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
+      overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
+      contacts += q.contact, sliding += q.slip;
+    }
+  } else {
+    // Pass 1, every candidate: the distance only; pairs out of reach forget their history (and bond) here. A bonded
+    // jkr pair reaches to d + delta_c.
+    std::uint32_t* flag = scratch->index.data();
+    const double d2 = f.d2, bonded_reach = c.diameter + c.law.break_depth, bonded_d2 = bonded_reach * bonded_reach;
+#pragma omp simd
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const Relative r = relative(f, offsets, keys[k]);
+      const double reach2 = bonds && bond_flags[k] > 0 ? bonded_d2 : d2;
+      const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < reach2;
+      flag[k] = touching;
+      // Stored on every lane by arithmetic (x 1 or 0, + 0 turning -0 into 0): written as a condition, GCC makes it a
+      // masked store, microcoded on AMD's Zen 2 and 3, where it made this loop 1.5x dearer.
+      const double keep = touching ? 1.0 : 0.0;
+      history_x[k] = keep * history_x[k] + 0.0, history_y[k] = keep * history_y[k] + 0.0;
+      history_z[k] = keep * history_z[k] + 0.0;
+      if (bonds) bond_flags[k] = keep * bond_flags[k];
+    }
+    // Pass 2, the indices of the touching ones (in place: n <= k).
+    std::uint32_t* index = flag;
+    std::uint32_t n = 0;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t t = flag[k];
+      index[n] = k;
+      n += t;
+    }
+    // Pass 3, the touching ones' offsets and histories packed together: the law's loop then reads and writes
+    // consecutive elements only. Read through the indices, GCC 12 kept that loop scalar on AVX2 (it has no scatter
+    // for the histories, and gave up on the offsets' gathers), 3x slower than vectorised.
+    KernelScratch& p = *scratch;
+    for (std::uint32_t m = 0; m < n; ++m) {
+      const std::uint32_t k = index[m], i = keys[k] >> 16, j = keys[k] & 0xffff;
+      p.oix[m] = offsets.x[i], p.oiy[m] = offsets.y[i], p.oiz[m] = offsets.z[i];
+      p.ojx[m] = offsets.x[j], p.ojy[m] = offsets.y[j], p.ojz[m] = offsets.z[j];
+      p.hx[m] = history_x[k], p.hy[m] = history_y[k], p.hz[m] = history_z[k];
+      if (bonds) p.bond[m] = bond_flags[k];
+    }
+    // Pass 4, the law on the packed candidates.
+    {
+      const double *oix = p.oix.data(), *oiy = p.oiy.data(), *oiz = p.oiz.data();
+      const double *ojx = p.ojx.data(), *ojy = p.ojy.data(), *ojz = p.ojz.data();
+      double *hx = p.hx.data(), *hy = p.hy.data(), *hz = p.hz.data(), *bond = p.bond.data();
+#pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
+      for (std::uint32_t m = 0; m < n; ++m) {
+        double& b = bonds ? bond[m] : unused;
+        const Contribution q =
+            contact<N, T>(c, relative(f, oix[m], oiy[m], oiz[m], ojx[m], ojy[m], ojz[m]), hx[m], hy[m], hz[m], b);
+        fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
+        overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
+        contacts += q.contact, sliding += q.slip;
+      }
+    }
+    // Pass 5, the histories back to their candidates.
+    for (std::uint32_t m = 0; m < n; ++m) {
+      const std::uint32_t k = index[m];
+      history_x[k] = p.hx[m], history_y[k] = p.hy[m], history_z[k] = p.hz[m];
+      if (bonds) bond_flags[k] = p.bond[m];
+    }
+  }
+  PairKernelSums s;
+  s.force = Vec3(fx, fy, fz);
+  s.moment = Vec3(mx, my, mz);
+  s.contacts = std::uint32_t(contacts), s.sliding = std::uint32_t(sliding), s.overlap = overlap, s.energy = energy;
+  s.damping = damping, s.friction = friction;
+  return s;
+}
+
+template <NormalModel N>
+PairKernel kernel_of(TangentialModel t) {
+  return t == TangentialModel::mindlin ? &pair_contacts<N, TangentialModel::mindlin>
+                                       : &pair_contacts<N, TangentialModel::linear_history>;
+}
+
+/// This instruction set's kernel of `law`'s normal and tangential models.
+inline PairKernel kernel_for(const ContactLaw& law) {
+  switch (law.normal) {
+    case NormalModel::hooke: return kernel_of<NormalModel::hooke>(law.tangential);
+    case NormalModel::hertz: return kernel_of<NormalModel::hertz>(law.tangential);
+    case NormalModel::hertz_material: return kernel_of<NormalModel::hertz_material>(law.tangential);
+    case NormalModel::dmt: return kernel_of<NormalModel::dmt>(law.tangential);
+    case NormalModel::jkr: return kernel_of<NormalModel::jkr>(law.tangential);
+  }
+  return nullptr;
+}
