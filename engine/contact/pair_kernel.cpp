@@ -60,9 +60,10 @@ const char* best_pair_kernel() {
 }
 
 std::string resolve_pair_kernel(const std::string& asked) {
-  // The environment's choice stands in for a run that names none (benchmarks, tests).
+  // The environment's choice stands in for the automatic one (benchmarks, tests).
   const char* env = std::getenv("GRANULAB_KERNEL");
-  const std::string requested = asked.empty() && env ? env : asked;
+  const bool automatic = asked.empty() || asked == "auto";
+  const std::string requested = automatic && env && *env ? env : asked;
   if (requested.empty() || requested == "auto") return best_pair_kernel();
   std::string names;
   for (const PairKernelInfo& k : pair_kernels()) {

@@ -81,7 +81,7 @@ struct PairKernelInfo {
 std::vector<PairKernelInfo> pair_kernels();
 /// The widest kernel this CPU runs: what `auto` chooses.
 const char* best_pair_kernel();
-/// The kernel a run asks for by name: "auto" gives best_pair_kernel(), and so does "" unless the environment's
+/// The kernel a run asks for by name: "auto" (or "") gives best_pair_kernel(), unless the environment's
 /// GRANULAB_KERNEL names one (for benchmarks and tests); an unknown name, or one the CPU cannot run, throws
 /// std::invalid_argument saying which kernels there are.
 std::string resolve_pair_kernel(const std::string& requested);
