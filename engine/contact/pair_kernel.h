@@ -44,11 +44,12 @@ struct OffsetArrays {
   explicit OffsetArrays(const std::vector<Vec3>& offsets);
 };
 
-/// Room for the two-pass path (PairKernel), per thread: the touching candidates' indices, and their spheres' offsets
-/// (m), histories (m) and bond flags packed together, so the law's loop reads and writes consecutive elements.
+/// Room for the two-pass path (PairKernel), per thread: the touching candidates' indices, and their geometry (sphere i
+/// relative to x_a, a, and the centre-to-centre vector r, m), histories (m) and bond flags packed together, so the
+/// law's loop reads and writes consecutive elements.
 struct KernelScratch {
   std::vector<std::uint32_t> index;
-  std::vector<double> oix, oiy, oiz, ojx, ojy, ojz, hx, hy, hz, bond;
+  std::vector<double> ax, ay, az, rx, ry, rz, hx, hy, hz, bond;
 
   /// Room for n candidates (grows only).
   void reserve(std::size_t n);

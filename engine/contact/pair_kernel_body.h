@@ -126,13 +126,16 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
       contacts += q.contact, sliding += q.slip;
     }
   } else {
-    // Pass 1, every candidate: the distance only; pairs out of reach forget their history (and bond) here. A bonded
-    // jkr pair reaches to d + delta_c.
+    // Pass 1, every candidate: its geometry (kept for pass 4) and whether it touches; pairs out of reach forget their
+    // history (and bond) here. A bonded jkr pair reaches to d + delta_c.
     std::uint32_t* flag = scratch->index.data();
+    double *rax = scratch->ax.data(), *ray = scratch->ay.data(), *raz = scratch->az.data();
+    double *rrx = scratch->rx.data(), *rry = scratch->ry.data(), *rrz = scratch->rz.data();
     const double d2 = f.d2, bonded_reach = c.diameter + c.law.break_depth, bonded_d2 = bonded_reach * bonded_reach;
 #pragma omp simd
     for (std::uint32_t k = 0; k < count; ++k) {
       const Relative r = relative(f, offsets, keys[k]);
+      rax[k] = r.ax, ray[k] = r.ay, raz[k] = r.az, rrx[k] = r.rx, rry[k] = r.ry, rrz[k] = r.rz;
       const double reach2 = bonds && bond_flags[k] > 0 ? bonded_d2 : d2;
       const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < reach2;
       flag[k] = touching;
@@ -151,27 +154,26 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
       index[n] = k;
       n += t;
     }
-    // Pass 3, the touching ones' offsets and histories packed together: the law's loop then reads and writes
-    // consecutive elements only. Read through the indices, GCC 12 kept that loop scalar on AVX2 (it has no scatter
-    // for the histories, and gave up on the offsets' gathers), 3x slower than vectorised.
+    // Pass 3, the touching ones' geometry and histories packed together (in place for the geometry: index[m] >= m):
+    // the law's loop then reads and writes consecutive elements only. Read through the indices, GCC 12 kept that loop
+    // scalar on AVX2 (it has no scatter for the histories, and gave up on the offsets' gathers), 3x slower than
+    // vectorised; packing the geometry rather than the template's offsets saves the law's loop recomputing it (6-7 %).
     KernelScratch& p = *scratch;
     for (std::uint32_t m = 0; m < n; ++m) {
-      const std::uint32_t k = index[m], i = keys[k] >> 16, j = keys[k] & 0xffff;
-      p.oix[m] = offsets.x[i], p.oiy[m] = offsets.y[i], p.oiz[m] = offsets.z[i];
-      p.ojx[m] = offsets.x[j], p.ojy[m] = offsets.y[j], p.ojz[m] = offsets.z[j];
+      const std::uint32_t k = index[m];
+      rax[m] = rax[k], ray[m] = ray[k], raz[m] = raz[k], rrx[m] = rrx[k], rry[m] = rry[k], rrz[m] = rrz[k];
       p.hx[m] = history_x[k], p.hy[m] = history_y[k], p.hz[m] = history_z[k];
       if (bonds) p.bond[m] = bond_flags[k];
     }
     // Pass 4, the law on the packed candidates.
     {
-      const double *oix = p.oix.data(), *oiy = p.oiy.data(), *oiz = p.oiz.data();
-      const double *ojx = p.ojx.data(), *ojy = p.ojy.data(), *ojz = p.ojz.data();
       double *hx = p.hx.data(), *hy = p.hy.data(), *hz = p.hz.data(), *bond = p.bond.data();
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
       for (std::uint32_t m = 0; m < n; ++m) {
         double& b = bonds ? bond[m] : unused;
-        const Contribution q =
-            contact<N, T>(c, relative(f, oix[m], oiy[m], oiz[m], ojx[m], ojy[m], ojz[m]), hx[m], hy[m], hz[m], b);
+        Relative r;
+        r.ax = rax[m], r.ay = ray[m], r.az = raz[m], r.rx = rrx[m], r.ry = rry[m], r.rz = rrz[m];
+        const Contribution q = contact<N, T>(c, r, hx[m], hy[m], hz[m], b);
         fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
         overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
         contacts += q.contact, sliding += q.slip;
