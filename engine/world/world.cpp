@@ -13,10 +13,11 @@ namespace granulab {
 
 namespace {
 // A grain pair whose touching share of candidates was below this at the last evaluation takes the
-// kernel's two-pass path (distances first). Not tuned: on the dense block of bench_contacts (16 %
-// touching) one pass took 1.85 s and two passes 1.2 s, so the distance pass costs ~40 % of a full
-// evaluation and the break-even lies near 45 % touching (bench/README.md, "Sparse contacts").
-constexpr double kSparseShare = 1.01;
+// kernel's two-pass path (distances first). On the Zen 3 VM's AVX2 kernel (2026-12-07, one pair of 600 candidates
+// stepped over and over) the two-pass path cost about 6 + 19 s ns per candidate at touching share s, one pass 18:
+// even at s = 0.62. The face-forces block (most pairs' faces touching) took 1.62-1.71 ms/step in contacts at 0.5,
+// 1.53-1.66 at 0.65, 1.74-1.84 with every pair on two passes.
+constexpr double kSparseShare = 0.6;
 }  // namespace
 
 World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSettings& settings)
