@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include "engine/contact/pair_kernel.h"
@@ -31,8 +32,14 @@ inline void print_machine(std::FILE* out = stdout) {
   std::string kernels;
   for (const PairKernelInfo& k : pair_kernels())
     kernels += std::string(kernels.empty() ? "" : ", ") + k.name + (k.runs_here ? "" : " (not on this CPU)");
+  std::string kernel;
+  try {
+    kernel = resolve_pair_kernel("");
+  } catch (const std::invalid_argument& e) {  // a GRANULAB_KERNEL this CPU lacks: the run will say so too
+    kernel = e.what();
+  }
   std::fprintf(out, "machine: %s; vector sets: %s; contact kernel %s (this binary has %s)\n", model.c_str(),
-               sets.empty() ? "none reported" : sets.c_str(), resolve_pair_kernel("").c_str(), kernels.c_str());
+               sets.empty() ? "none reported" : sets.c_str(), kernel.c_str(), kernels.c_str());
 }
 
 }  // namespace granulab

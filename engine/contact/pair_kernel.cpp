@@ -32,6 +32,14 @@ bool cpu_runs(const std::string& name) {
   return name == kBaselineKernel;
 }
 
+// The kernels of this build, widest first: known at compile time, so that no function of a wider set's translation
+// unit is ever called on a CPU without that set (resolve_pair_kernel() checks the CPU before pair_kernel() calls one).
+#if defined(__x86_64__)
+constexpr const char* kKernels[] = {"avx512", "avx2", kBaselineKernel};
+#else
+constexpr const char* kKernels[] = {kBaselineKernel};
+#endif
+
 PairKernel kernel_named(const std::string& name, const ContactLaw& law) {
   if (name == "avx512") return kernel_avx512::kernel(law);
   if (name == "avx2") return kernel_avx2::kernel(law);
@@ -43,10 +51,7 @@ PairKernel kernel_named(const std::string& name, const ContactLaw& law) {
 
 std::vector<PairKernelInfo> pair_kernels() {
   std::vector<PairKernelInfo> out;
-  for (const char* name : {"avx512", "avx2", kBaselineKernel}) {
-    if (!kernel_named(name, ContactLaw{})) continue;  // not in this build (off x86-64)
-    out.push_back({name, cpu_runs(name)});
-  }
+  for (const char* name : kKernels) out.push_back({name, cpu_runs(name)});
   return out;
 }
 
@@ -63,18 +68,21 @@ std::string resolve_pair_kernel(const std::string& asked) {
   // The environment's choice stands in for the automatic one (benchmarks, tests).
   const char* env = std::getenv("GRANULAB_KERNEL");
   const bool automatic = asked.empty() || asked == "auto";
-  const std::string requested = automatic && env && *env ? env : asked;
+  const bool from_env = automatic && env && *env;
+  const std::string requested = from_env ? env : asked;
   if (requested.empty() || requested == "auto") return best_pair_kernel();
+  // Named as the user gave it: the environment, or the spec's field.
+  const std::string what = from_env ? "GRANULAB_KERNEL" : "run.kernel";
   std::string names;
   for (const PairKernelInfo& k : pair_kernels()) {
     if (k.name == requested) {
       if (k.runs_here) return requested;
-      throw std::invalid_argument("kernel '" + requested + "' needs instructions this CPU lacks; it runs " +
+      throw std::invalid_argument(what + " '" + requested + "' needs instructions this CPU lacks; it runs " +
                                   best_pair_kernel() + " and below");
     }
     names += std::string(names.empty() ? "" : ", ") + k.name;
   }
-  throw std::invalid_argument("unknown kernel '" + requested + "': one of auto, " + names);
+  throw std::invalid_argument(what + ": unknown kernel '" + requested + "': one of auto, " + names);
 }
 
 PairKernel pair_kernel(const ContactLaw& law, const std::string& kernel) {

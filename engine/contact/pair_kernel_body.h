@@ -127,18 +127,20 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
     }
   } else {
     // Pass 1, every candidate: its geometry (kept for pass 4) and whether it touches; pairs out of reach forget their
-    // history (and bond) here. A bonded jkr pair reaches to d + delta_c.
+    // history (and bond) here. A bonded jkr pair reaches to d + delta_c; one that broke beyond it leaves its stored
+    // energy at break_energy with the losses, as contact_terms counts a bond broken within reach.
     std::uint32_t* flag = scratch->index.data();
     double *rax = scratch->ax.data(), *ray = scratch->ay.data(), *raz = scratch->az.data();
     double *rrx = scratch->rx.data(), *rry = scratch->ry.data(), *rrz = scratch->rz.data();
     const double d2 = f.d2, bonded_reach = c.diameter + c.law.break_depth, bonded_d2 = bonded_reach * bonded_reach;
-#pragma omp simd
+#pragma omp simd reduction(+ : damping)
     for (std::uint32_t k = 0; k < count; ++k) {
       const Relative r = relative(f, offsets, keys[k]);
       rax[k] = r.ax, ray[k] = r.ay, raz[k] = r.az, rrx[k] = r.rx, rry[k] = r.ry, rrz[k] = r.rz;
       const double reach2 = bonds && bond_flags[k] > 0 ? bonded_d2 : d2;
       const bool touching = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz < reach2;
       flag[k] = touching;
+      if (bonds) damping += (bond_flags[k] > 0) & !touching ? c.law.break_energy : 0.0;
       // Stored on every lane by arithmetic (x 1 or 0, + 0 turning -0 into 0): written as a condition, GCC makes it a
       // masked store, microcoded on AMD's Zen 2 and 3, where it made this loop 1.5x dearer.
       const double keep = touching ? 1.0 : 0.0;

@@ -5,7 +5,9 @@
 // then the law on the touching ones), for every normal law and both tangential ones, in every instruction set's kernel.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "engine/contact/neighbor_list.h"
@@ -81,7 +83,16 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
   std::vector<Vec3> kernel_hist = hist, scalar_hist = hist;
   std::vector<double> hx(n), hy(n), hz(n);  // the kernel's layout: one array per component
   for (int k = 0; k < n; ++k) hx[k] = hist[k].x(), hy[k] = hist[k].y(), hz[k] = hist[k].z();
-  std::vector<double> bonds(n, 0.0), scalar_bonds(n, 0.0);  // jkr: every pair starts unbonded
+  // jkr: every third pair starts bonded, so that some bonds hold apart (within d + delta_c), some break beyond it and
+  // leave their stored energy with the losses, on either path.
+  std::vector<double> bonds(n, 0.0), scalar_bonds(n, 0.0);
+  std::uint32_t bonded_apart = 0, broken = 0;
+  if (law.keeps_bonds())
+    for (int k = 0; k < n; k += 3) {
+      bonds[k] = scalar_bonds[k] = 1.0;
+      const double gap = (sa[k] - sb[k]).norm() - d;
+      bonded_apart += gap >= 0 && gap < c.law.break_depth, broken += gap >= c.law.break_depth;
+    }
   KernelScratch scratch;
   scratch.reserve(n);
   const PairKernelSums s = pair_kernel(law, GetParam().kernel)(c, OffsetArrays(offsets), keys.data(), n, hx.data(), hy.data(), hz.data(),
@@ -95,7 +106,8 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
   double damping = 0, friction = 0, energy = 0;
   for (int k = 0; k < n; ++k) {
     const Vec3 r = sa[k] - sb[k];
-    if (r.norm() >= d) {
+    const bool bonded = scalar_bonds[k] > 0;
+    if (r.norm() >= d && !bonded) {
       scalar_hist[k].setZero();
       continue;
     }
@@ -108,9 +120,13 @@ TEST_P(PairKernel, MatchesScalarContactLaw) {
     force += cf.force;
     moment += (point - c.xa).cross(cf.force);
     force_scale += cf.force.norm(), moment_scale += (point - c.xa).cross(cf.force).norm();
-    ++contacts;
+    contacts += r.norm() < d || scalar_bonds[k] > 0;  // touching, or a bond that held
     sliding += cf.sliding;
     damping += cf.damping, friction += cf.friction, energy += cf.energy;
+  }
+  if (law.keeps_bonds()) {
+    ASSERT_GT(bonded_apart, 0u) << "no bond holds apart: the case misses that branch";
+    ASSERT_GT(broken, 0u) << "no bond breaks: the case misses that branch";
   }
   ASSERT_GT(contacts, 100u);
   ASSERT_GT(sliding, 10u);
@@ -157,6 +173,38 @@ INSTANTIATE_TEST_SUITE_P(Laws, PairKernel, ::testing::ValuesIn(kernel_cases()),
                              if (ch == '/') ch = '_';
                            return name;
                          });
+
+}  // namespace
+}  // namespace granulab
+
+namespace granulab {
+namespace {
+
+// A kernel named by the environment stands in for auto, and an error names where the name came from.
+TEST(PairKernelChoice, TheEnvironmentReplacesAutoAndErrorsNameTheirSource) {
+  const char* saved = std::getenv("GRANULAB_KERNEL");
+  const std::string restore = saved ? saved : "";
+  ::setenv("GRANULAB_KERNEL", kBaselineKernel, 1);
+  EXPECT_EQ(resolve_pair_kernel(""), kBaselineKernel);
+  EXPECT_EQ(resolve_pair_kernel("auto"), kBaselineKernel);
+  ::setenv("GRANULAB_KERNEL", "avx3", 1);
+  try {
+    resolve_pair_kernel("auto");
+    ADD_FAILURE() << "accepted GRANULAB_KERNEL=avx3";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("GRANULAB_KERNEL"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(resolve_pair_kernel(kBaselineKernel), kBaselineKernel);  // a spec's own choice stands
+  ::unsetenv("GRANULAB_KERNEL");
+  EXPECT_EQ(resolve_pair_kernel(""), best_pair_kernel());
+  try {
+    resolve_pair_kernel("avx3");
+    ADD_FAILURE() << "accepted run.kernel avx3";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("run.kernel"), std::string::npos) << e.what();
+  }
+  if (saved) ::setenv("GRANULAB_KERNEL", restore.c_str(), 1);
+}
 
 }  // namespace
 }  // namespace granulab
