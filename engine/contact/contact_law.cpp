@@ -78,12 +78,18 @@ double ContactLaw::pair_stiffness(double r_eff, double force) const {
   return 1.5 * std::cbrt(normal_stiffness * normal_stiffness * r_eff * std::max(force, 0.0));
 }
 
+void set_pair_damping(PairLaw& c, const ContactLaw& law, double m_eff) {
+  c.cn = pair_damping(law, m_eff);
+  c.ct = c.cn / 2;
+  c.dt_per_ct = c.ct > 0 ? c.dt / c.ct : 0;
+}
+
 PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt) {
   PairLaw c;
   c.kn = law.normal_stiffness, c.kt = law.tangential_stiffness;
   c.mu = law.friction, c.dt = dt, c.r_eff = r_eff;
-  c.cn = pair_damping(law, m_eff);
-  c.ct = c.cn / 2;
+  c.inv_kt = c.kt > 0 ? 1 / c.kt : 0;
+  set_pair_damping(c, law, m_eff);
   c.pulloff = law.pulloff_force(r_eff);
   if (law.normal == NormalModel::jkr) {
     const double e = law.effective_modulus, g = law.surface_energy;

@@ -66,6 +66,10 @@ struct PairLaw {
   double kn = 0, kt = 0;  ///< as ContactLaw's normal_stiffness and tangential_stiffness
   double cn = 0, ct = 0;  ///< hooke: c_n, c_t (N s/m); otherwise their value per sqrt(a) (N s / m^1.5)
   double mu = 0, dt = 0;  ///< Coulomb f (-), time step (s)
+  // Loop invariants of the common laws, divided once here: a division per contact costs the vectorised kernel as
+  // much as a tenth of its time (GCC cannot hoist it, as the kernel's stores might alias the constants).
+  double inv_kt = 0;     ///< linear_history: 1 / k_t (m/N), 0 without a spring
+  double dt_per_ct = 0;  ///< hooke: dt / c_t (m/N), 0 without a dashpot
   double r_eff = 0;       ///< R* (m)
   double pulloff = 0;     ///< F_pulloff (N), cohesive laws
   double jkr_p = 0;       ///< jkr: 2 R* sqrt(pi gamma / E*) (m^1.5), so that delta R* = x^4 - jkr_p x with x = sqrt(a)
@@ -88,9 +92,11 @@ inline double pair_damping(const ContactLaw& law, double m_eff) {
                                           : 2 * law.damping_ratio * std::sqrt(1.5 * law.normal_stiffness * m_eff);
 }
 
-/// `law`'s constants for a pair of effective radius r_eff (m) and mass m_eff (kg), time step dt (s). Only cn and ct
-/// depend on the mass (pair_damping()): loops over pairs of one radius set those two per pair.
+/// `law`'s constants for a pair of effective radius r_eff (m) and mass m_eff (kg), time step dt (s). Only the
+/// dashpots depend on the mass: loops over pairs of one radius set them per pair with set_pair_damping().
 PairLaw pair_law(const ContactLaw& law, double r_eff, double m_eff, double dt);
+/// Sets c's dashpots (cn, ct and dt_per_ct) for a pair of effective mass m_eff (kg) under `law`.
+void set_pair_damping(PairLaw& c, const ContactLaw& law, double m_eff);
 
 /// One contact's outcome: force on the first body along the normal and tangent, and the step's energy terms.
 struct ContactTerms {
@@ -148,10 +154,11 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
   else fe = kn * a * delta - (cohesive ? c.pulloff : 0.0);
   const double cn = hooke ? c.cn : c.cn * std::sqrt(a), ct = hooke ? c.ct : 0.5 * cn;
   const double kt = mindlin ? c.kt * a : c.kt;
-  const double inv_kt = kt > 0 ? 1 / kt : 0;
+  const double inv_kt = mindlin ? (kt > 0 ? 1 / kt : 0) : c.inv_kt;
   // The sliding loss is cap x slip: s (1 - s) |g|^2 / k_t with a spring; without one (k_t = 0, g = -c_t v_t) all of
   // v_t dt slips, cap |v_t| dt = s |g|^2 dt / c_t.
-  const double spring = kt > 0 ? 1.0 : 0.0, loss = kt > 0 ? inv_kt : (ct > 0 ? dt / ct : 0.0);
+  const double spring = kt > 0 ? 1.0 : 0.0;
+  const double loss = kt > 0 ? inv_kt : (hooke ? c.dt_per_ct : (ct > 0 ? dt / ct : 0.0));
   const double vn = vx * nx + vy * ny + vz * nz;
   const double tx = vx - vn * nx, ty = vy - vn * ny, tz = vz - vn * nz;
   // The dashpots' velocity, normal and tangential.

@@ -73,14 +73,15 @@ struct Contribution {
   double fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contact, slip;
 };
 
-// One candidate: its geometry, then the law (contact_terms), then the moment about x_a.
-template <NormalModel N, TangentialModel T>
+// One candidate: its geometry, then the law (contact_terms), then the moment about x_a. `Touching`: the caller
+// knows the centres are within reach (the packed candidates of the two-pass path), which spares the law's selects.
+template <NormalModel N, TangentialModel T, bool Touching = false>
 inline __attribute__((always_inline)) Contribution contact(const PairKernelConstants& c, const Relative& r,
                                                            double& hx_io, double& hy_io, double& hz_io,
                                                            double& bond_io) {
   const double d = c.diameter, radius = c.radius;
   const double dist2 = r.rx * r.rx + r.ry * r.ry + r.rz * r.rz;
-  const bool touching = dist2 < d * d;
+  const bool touching = Touching || dist2 < d * d;
   const double inv = 1 / std::sqrt(dist2);
   const double delta = d - dist2 * inv;
   const double nx = r.rx * inv, ny = r.ry * inv, nz = r.rz * inv;
@@ -167,7 +168,10 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
       p.hx[m] = history_x[k], p.hy[m] = history_y[k], p.hz[m] = history_z[k];
       if (bonds) p.bond[m] = bond_flags[k];
     }
-    // Pass 4, the law on the packed candidates.
+    // Pass 4, the law on the packed candidates. They all touch, but a jkr bond's reach differs from d: jkr
+    // measures again.
+    constexpr bool touching = !bonds;
+    if (touching) contacts = n;
     {
       double *hx = p.hx.data(), *hy = p.hy.data(), *hz = p.hz.data(), *bond = p.bond.data();
 #pragma omp simd reduction(+ : fx, fy, fz, mx, my, mz, overlap, energy, damping, friction, contacts, sliding)
@@ -175,10 +179,11 @@ PairKernelSums pair_contacts(const PairKernelConstants& c, const OffsetArrays& o
         double& b = bonds ? bond[m] : unused;
         Relative r;
         r.ax = rax[m], r.ay = ray[m], r.az = raz[m], r.rx = rrx[m], r.ry = rry[m], r.rz = rrz[m];
-        const Contribution q = contact<N, T>(c, r, hx[m], hy[m], hz[m], b);
+        const Contribution q = contact<N, T, touching>(c, r, hx[m], hy[m], hz[m], b);
         fx += q.fx, fy += q.fy, fz += q.fz, mx += q.mx, my += q.my, mz += q.mz;
         overlap += q.overlap, energy += q.energy, damping += q.damping, friction += q.friction;
-        contacts += q.contact, sliding += q.slip;
+        if (!touching) contacts += q.contact;
+        sliding += q.slip;
       }
     }
     // Pass 5, the histories back to their candidates.

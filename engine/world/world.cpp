@@ -212,7 +212,7 @@ void World::sphere_contact_forces() {
       const double m_eff = ma * mb / (ma + mb);
       if (sa == 1 && sb == 1) {
         c.law = full_size;
-        c.law.cn = pair_damping(law_, m_eff), c.law.ct = c.law.cn / 2;
+        set_pair_damping(c.law, law_, m_eff);
       } else {
         c.law = pair_law(law_, radius * sa * sb / (sa + sb), m_eff, dt);
       }
@@ -319,7 +319,7 @@ void World::wall_forces() {
         lagged_damping_ ? damping_velocity_[b] + damping_angular_velocity_[b].cross(arm) - w.velocity : v_rel;
     PairLaw pair = wall_constants;
     if (w.friction >= 0) pair.mu = w.friction;
-    pair.cn = pair_damping(wall_law, bodies_.mass[b]), pair.ct = pair.cn / 2;
+    set_pair_damping(pair, wall_law, bodies_.mass[b]);
     pair.r_eff = radius * bodies_.scale[b];
     double no_bond = 0;  // walls do not bond
     const ContactForce cf = contact_force(wall_law, pair, w.normal, delta, v_rel, v_damping, history[k], no_bond);
