@@ -66,8 +66,8 @@ struct PairLaw {
   double kn = 0, kt = 0;  ///< as ContactLaw's normal_stiffness and tangential_stiffness
   double cn = 0, ct = 0;  ///< hooke: c_n, c_t (N s/m); otherwise their value per sqrt(a) (N s / m^1.5)
   double mu = 0, dt = 0;  ///< Coulomb f (-), time step (s)
-  // Loop invariants of the common laws, divided once here: a division per contact costs the vectorised kernel as
-  // much as a tenth of its time (GCC cannot hoist it, as the kernel's stores might alias the constants).
+  // Loop invariants of the common laws, divided once here: the kernel's loop divided them per contact (GCC does not
+  // hoist them, as the loop's stores might alias the constants), two of its eight divisions and square roots.
   double inv_kt = 0;     ///< linear_history: 1 / k_t (m/N), 0 without a spring
   double dt_per_ct = 0;  ///< hooke: dt / c_t (m/N), 0 without a dashpot
   double r_eff = 0;       ///< R* (m)

@@ -33,6 +33,11 @@ struct ConfinementReport {
 struct ConfinementFailed : std::runtime_error {
   ConfinementFailed(const ConfinementReport& r, const CrystalSampleParams& p);
 };
+/// A time step the damped modes cannot take: the grains' velocities reverse from step to step at every check, so the
+/// confinement would never come to rest (docs/model.md, "Damping velocity"). The job fails with this at once.
+struct UnstableTimeStep : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 /// Throws ConfinementFailed when the report did not converge and ended far from equilibrium: a platen off p0 by more
 /// than 5 equilibrium tolerances, or kinetic/elastic above 10 kinetic tolerances (nothing with
 /// params.require_equilibrium off). Nearer than that the run goes on, and write_confinement_warning() says so.
