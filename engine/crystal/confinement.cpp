@@ -48,6 +48,7 @@ std::string confinement_failure(const ConfinementReport& r, const CrystalSampleP
                 r.kinetic_elastic_ratio, 100 * p.equilibrium_tolerance, p.kinetic_tolerance, p.equilibrium_checks);
   return text;
 }
+
 // How the dynamic grains' motion now and one step before line up: sum m v.u / sqrt(sum m v^2 sum m u^2) over their
 // velocities, the same over their angular velocities weighted by their mean principal inertia, and the smaller of the
 // two (-). About 1 for motion the step resolves, about -1 for a vibration at the step's own period 2 h. (At a step too

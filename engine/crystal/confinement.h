@@ -33,8 +33,8 @@ struct ConfinementReport {
 struct ConfinementFailed : std::runtime_error {
   ConfinementFailed(const ConfinementReport& r, const CrystalSampleParams& p);
 };
-/// A time step the damped modes cannot take: the grains' velocities reverse from step to step at every check, so the
-/// confinement would never come to rest (docs/model.md, "Damping velocity"). The job fails with this at once.
+/// A time step the damped modes cannot take: the grains' motion (their spins, or their velocities) reverses from step
+/// to step at every check, so the confinement would never come to rest (docs/model.md, "Damping velocity"). The job fails with this at once.
 struct UnstableTimeStep : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
