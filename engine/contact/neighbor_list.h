@@ -100,6 +100,9 @@ class NeighborList {
   /// Grain centres closer than this at the last broad phase are watched (m).
   double broad_cutoff() const { return grain_cutoff_ + margin_; }
   const std::vector<BodyPairSpan>& body_pairs() const { return pairs_; }
+  /// Whether the last update() searched grain pair p again (its candidates may have changed); every pair after a
+  /// broad phase.
+  bool searched(std::size_t p) const { return p < search_.size() && search_[p] != 0; }
   const std::vector<std::uint32_t>& keys() const { return keys_; }
   ShearHistory& history() { return history_; }
   const std::vector<std::uint64_t>& wall_keys() const { return wall_keys_; }

@@ -13,7 +13,7 @@ OffsetArrays::OffsetArrays(const std::vector<Vec3>& offsets) {
 
 void KernelScratch::reserve(std::size_t n) {
   if (index.size() >= n) return;
-  for (std::vector<double>* v : {&ax, &ay, &az, &rx, &ry, &rz, &hx, &hy, &hz, &bond}) v->resize(n);
+  for (std::vector<double>* v : {&ax, &ay, &az, &rx, &ry, &rz, &inv, &hx, &hy, &hz, &bond}) v->resize(n);
   index.resize(n);
 }
 

@@ -34,6 +34,7 @@ struct PairKernelSums {
   double energy = 0;    ///< elastic energy stored in the contacts after the step (J)
   double damping = 0;   ///< energy the dashpots took in this step (J)
   double friction = 0;  ///< energy lost to sliding in this step (J)
+  double nearest2 = 0;  ///< the two-pass path: the smallest squared distance of two candidates' centres (m^2); else 0
 };
 
 /// The template's body-frame sphere offsets (m), one array per component, indexed by local sphere id:
@@ -45,11 +46,11 @@ struct OffsetArrays {
 };
 
 /// Room for the two-pass path (PairKernel), per thread: the touching candidates' indices, and their geometry (sphere i
-/// relative to x_a, a, and the centre-to-centre vector r, m), histories (m) and bond flags packed together, so the
-/// law's loop reads and writes consecutive elements.
+/// relative to x_a, a, and the centre-to-centre vector r, m; 1 / |r|, 1/m), histories (m) and bond flags packed
+/// together, so the law's loop reads and writes consecutive elements.
 struct KernelScratch {
   std::vector<std::uint32_t> index;
-  std::vector<double> ax, ay, az, rx, ry, rz, hx, hy, hz, bond;
+  std::vector<double> ax, ay, az, rx, ry, rz, inv, hx, hy, hz, bond;
 
   /// Room for n candidates (grows only).
   void reserve(std::size_t n);

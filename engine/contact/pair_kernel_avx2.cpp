@@ -3,6 +3,7 @@
 // after every include (pair_kernel_body.h says why). No FMA contraction: -ffp-contract=off holds here as everywhere.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "engine/contact/contact_law.h"
 #include "engine/contact/pair_kernel.h"

@@ -3,6 +3,7 @@
 // with the sets added by the pragma below, after every include (pair_kernel_body.h says why).
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "engine/contact/contact_law.h"
 #include "engine/contact/pair_kernel.h"

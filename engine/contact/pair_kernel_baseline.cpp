@@ -3,6 +3,7 @@
 // Everything the kernels' code needs is included here, before any target pragma (pair_kernel_body.h says why).
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "engine/contact/contact_law.h"
 #include "engine/contact/pair_kernel.h"

@@ -19,6 +19,7 @@ void write_run_stats(SummaryWriter& w, const RunStats& r) {
   w.count("neighbor_rebuilds", r.rebuilds);
   w.count("neighbor_pair_searches", r.pair_searches);
   w.number("mean_candidates", r.mean_candidates, "-");
+  w.number("mean_skipped_candidates", r.mean_skipped, "-");
   w.begin_group("stage_seconds");
   w.number("integrate", r.stage_times.integrate, "s");
   w.number("sphere_positions", r.stage_times.spheres, "s");

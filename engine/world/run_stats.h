@@ -37,6 +37,7 @@ struct RunStats {
   std::uint64_t rebuilds = 0;       ///< force evaluations at which some candidates were searched again (-)
   std::uint64_t pair_searches = 0;  ///< grain pairs whose sphere pairs were searched, summed over the run (-)
   double mean_candidates = 0;       ///< sphere-pair candidates per force evaluation, averaged over the steps (-)
+  double mean_skipped = 0;  ///< of which in grain pairs skipped as apart (engine/world/open_pairs.h), averaged (-)
   double time_step = 0;             ///< dt (s)
   double sphere_diameter = 0;       ///< d (m)
   double normal_stiffness = 0;      ///< the law's normal stiffness: k_n of one sphere pair (N/m) for hooke, k_N (Pa) else

@@ -29,7 +29,8 @@ World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSetti
       settings_(settings),
       // A bonded jkr pair holds to delta_c apart: the skin is widened by it, so candidates reach that far.
       neighbors_(grain.offsets(), grain.diameter(), settings.skin + law.pulloff_distance(grain.radius() / 2),
-                 settings.min_scale) {
+                 settings.min_scale),
+      open_pairs_(grain.bounding_radius() - grain.radius()) {
   if (law.keeps_bonds()) neighbors_.keep_bonds();
   if (!(settings.time_step > 0)) throw std::invalid_argument("time step must be > 0");
   if (!(settings.min_scale > 0 && settings.min_scale <= 1)) throw std::invalid_argument("min_scale must be in (0, 1]");
@@ -43,6 +44,7 @@ RunStats World::run_stats(double wall_seconds) const {
   r.rebuilds = rebuilds_;
   r.pair_searches = pair_searches_;
   r.mean_candidates = steps_ > 0 ? candidate_steps_ / double(steps_) : 0.0;
+  r.mean_skipped = steps_ > 0 ? skipped_steps_ / double(steps_) : 0.0;
   r.time_step = settings_.time_step;
   r.sphere_diameter = grain_.diameter();
   r.normal_stiffness = law_.normal_stiffness;
@@ -157,6 +159,12 @@ void World::update_neighbors() {
   pair_sliding_.resize(n_pairs);
   pair_overlap_.resize(n_pairs);
   pair_energy_.resize(n_pairs);
+  if (u.broad || open_pairs_.size() != n_pairs) {
+    open_pairs_.reset(n_pairs);
+  } else if (u.pairs_searched > 0) {
+    for (std::size_t p = 0; p < n_pairs; ++p)
+      if (neighbors_.searched(p)) open_pairs_.forget(p);
+  }
   size_kernel_scratch();
   ++rebuilds_;
 }
@@ -182,7 +190,11 @@ void World::sphere_contact_forces() {
   pair_friction_.resize(n_pairs);
   // The law's constants of two full-size grains; a pair sets its damping (its masses) and, with a scaled grain, all.
   const PairLaw full_size = pair_law(law_, radius / 2, 1.0, dt);
+  // A jkr bond holds beyond contact: its pairs are never skipped as open.
+  const bool sleep = !law_.keeps_bonds();
+  if (open_pairs_.size() != std::size_t(n_pairs)) open_pairs_.reset(n_pairs);
 
+  std::size_t skipped = 0;
 #pragma omp parallel if (n_pairs >= 8)
   {
     // Each body's rotation matrix once, rather than twice per grain pair (~9 pairs per grain in a crystal),
@@ -193,10 +205,12 @@ void World::sphere_contact_forces() {
     // more on the reference crystal (3.12 against 2.43-2.46 ms/step to 1 % strain, 2 threads; dynamic 32: 2.58-2.69,
     // 64: 2.49, static: 2.54): a shared counter taken 2,000 times a step, and neighbouring pairs' result slots,
     // written by both threads, sharing cache lines.
-#pragma omp for schedule(guided)
+#pragma omp for schedule(guided) reduction(+ : skipped)
     for (long p = 0; p < n_pairs; ++p) {
       const BodyPairSpan& gp = pairs[p];
-      if (gp.count == 0) {  // watched for drift, no sphere pair within reach
+      // Watched for drift with no sphere pair within reach, or apart by more than the grains have moved since.
+      if (gp.count == 0 || (sleep && open_pairs_.closed_off(std::size_t(p), bodies_, gp.a, gp.b))) {
+        skipped += gp.count;
         pair_force_[p] = pair_torque_a_[p] = pair_torque_b_[p] = Vec3::Zero();
         pair_contacts_[p] = pair_sliding_[p] = 0;
         pair_overlap_[p] = pair_energy_[p] = pair_damping_[p] = pair_friction_[p] = 0;
@@ -237,6 +251,7 @@ void World::sphere_contact_forces() {
                   history.y.data() + gp.first, history.z.data() + gp.first,
                   history.bonds ? history.bond.data() + gp.first : nullptr,
                   sparse ? &kernel_scratch_[omp_get_thread_num()] : nullptr);
+      if (sleep) open_pairs_.evaluated(std::size_t(p), bodies_, gp.a, gp.b, s.contacts, s.nearest2, c.diameter);
       pair_force_[p] = s.force;
       pair_torque_a_[p] = s.moment;
       pair_torque_b_[p] = -s.moment - (xa - xb).cross(s.force);
@@ -250,7 +265,9 @@ void World::sphere_contact_forces() {
   }
 
   stats_.candidates = keys.size();
+  stats_.skipped = skipped;
   candidate_steps_ += double(keys.size());
+  skipped_steps_ += double(skipped);
   stats_.contacts = stats_.sliding = 0;
   stats_.elastic_energy = stats_.damping_loss = stats_.friction_loss = 0;
   std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
@@ -367,6 +384,7 @@ void World::state(Archive& a, Self& w) {
   a.value(w.rebuilds_);
   a.value(w.pair_searches_);
   a.value(w.candidate_steps_);
+  a.value(w.skipped_steps_);
   a.value(w.stats_);
   a.value(w.energy_);
   a.value(w.times_);
@@ -390,6 +408,7 @@ void World::restore(CheckpointReader& r) {
   state(r, *this);
   spheres_current_ = false;  // sphere positions follow from the restored poses
   size_kernel_scratch();
+  open_pairs_.reset(neighbors_.body_pairs().size());  // not saved: the first evaluation finds the open pairs again
 }
 
 }  // namespace granulab

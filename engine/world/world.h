@@ -19,6 +19,7 @@
 #include "engine/dynamics/integrator.h"
 #include "engine/geometry/grain_template.h"
 #include "engine/world/energy_balance.h"
+#include "engine/world/open_pairs.h"
 #include "engine/world/run_stats.h"
 
 namespace granulab {
@@ -42,6 +43,7 @@ struct WorldSettings {
 
 struct ContactStats {
   std::size_t candidates = 0;  ///< sphere pairs in the neighbour list
+  std::size_t skipped = 0;     ///< of which in grain pairs skipped as apart (OpenPairs) at the last evaluation
   std::size_t contacts = 0;    ///< sphere-sphere pairs with overlap > 0
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
@@ -146,6 +148,7 @@ class World {
   bool lagged_damping_ = false;
   std::vector<double> overlap_sum_;
   std::vector<KernelScratch> kernel_scratch_;  // per thread, for the kernel's two-pass path
+  OpenPairs open_pairs_;                       // grain pairs apart by more than they have moved since
   std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
   // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
   // centre (N m), and whether it touched.
@@ -161,6 +164,7 @@ class World {
   double time_ = 0;
   std::uint64_t steps_ = 0, rebuilds_ = 0, pair_searches_ = 0;
   double candidate_steps_ = 0;  // sum over force evaluations of the candidates
+  double skipped_steps_ = 0;    // the same of those skipped (ContactStats::skipped)
   ContactStats stats_;
 };
 
