@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
       std::printf("%6.3f %11s\n", f, "BLEW UP while confining");
       continue;
     }
-    auto total = [&] { return world.kinetic_energy() + world.contact_stats().elastic_energy; };
+    auto total = [&] { return world.kinetic_energy() + world.elastic_energy(); };
     const double ke0 = sample.kinetic_elastic_ratio(), e0 = total();
     double ke_max = ke0;
     std::string result = "stable";

@@ -110,13 +110,53 @@ struct ContactTerms {
   bool contact, slip;
 };
 
+/// The contact radius a (m) at overlap delta (m), and for jkr x = sqrt(a) (m^0.5); 0 where the law has no use for it
+/// (hooke with linear_history).
+template <NormalModel N, TangentialModel T>
+inline __attribute__((always_inline)) void contact_radius(const PairLaw& c, double delta, double& a, double& x) {
+  // Contact radius a: sqrt(R* delta) for the Hertz family and mindlin; jkr's is the largest root of the quartic in
+  // x = sqrt(a), f(x) = x^4 - p x - R* delta = 0, by Newton from x0 = max((R* delta)^(1/4), p^(1/3)): f is convex and
+  // increasing beyond the displacement-controlled instability, and x0 lies within 19 % of the root for delta >= 0
+  // (below it: one step overshoots, then the iterates fall monotonically) and above it by at most 10 % down to the
+  // pull-off distance. Six steps reach rounding; divisions and square roots only, so the loop stays vectorised
+  // (a cube root is a scalar call).
+  if constexpr (N == NormalModel::jkr) {
+    const double rd = c.r_eff * delta;
+    x = std::max(std::sqrt(std::sqrt(std::max(rd, 0.0))), c.jkr_x0);
+    // Written out: a loop here, even of fixed count, kept GCC from vectorising the candidates' loop.
+    const auto newton = [&](double y) { return y - (y * y * y * y - c.jkr_p * y - rd) / (4 * y * y * y - c.jkr_p); };
+    x = newton(newton(newton(newton(newton(newton(x))))));
+    a = x * x;
+  } else if constexpr (N != NormalModel::hooke || T == TangentialModel::mindlin) {
+    a = std::sqrt(c.r_eff * std::max(delta, 0.0));
+  }
+}
+
+/// The normal law's potential at overlap delta (J), zero at first touch, with the contact radius a (m) and, for jkr,
+/// x = sqrt(a) as contact_terms() computes them: hooke k_n delta^2 / 2; Hertz 2/5 F delta; dmt minus the attraction's
+/// F_pulloff delta; jkr the integral of F along its curve from a = 0, 8 E* a^5 / (15 R*^2) - 2/3 jkr_w a^3 x / R* +
+/// 2 pi gamma a^2 (2 pi gamma = jkr_w^2 / (8 E*) = jkr_w^2 / (6 jkr_e R*)).
+template <NormalModel N>
+inline __attribute__((always_inline)) double normal_potential(const PairLaw& c, double delta, double a, double x) {
+  if constexpr (N == NormalModel::hooke) {
+    return 0.5 * c.kn * delta * delta;
+  } else if constexpr (N == NormalModel::jkr) {
+    const double a2 = a * a;
+    return a2 * (0.4 * c.jkr_e * a2 * a / c.r_eff - (2.0 / 3) * c.jkr_w * a * x / c.r_eff +
+                 c.jkr_w * c.jkr_w / (6 * c.jkr_e * c.r_eff));
+  } else {
+    return 0.4 * c.kn * a * delta * delta - (is_cohesive(N) ? c.pulloff * delta : 0.0);
+  }
+}
+
 /// The law for one candidate: unit normal (nx, ny, nz) from the second body to the first, overlap `delta` (m,
 /// negative when apart), `touching` (the centres closer than the contact distance, as the caller measured it),
 /// relative velocity of the first body at the contact point (vx, vy, vz) (m/s), which moves the shear history, and
 /// the velocity the dashpots see (wx, wy, wz) (m/s; the same, or the lagged one of World's damping_velocity). Updates
 /// the shear history (hx, hy, hz) (m) and, for jkr, the bond flag (1 bonded, 0 not): a pair out of contact forgets
 /// both. Branch-free (selects only), so the kernel's loop vectorises across candidates; N and T are fixed per run.
-template <NormalModel N, TangentialModel T>
+/// `Stored`: whether to compute `energy` (the contact kernels leave it to pair_stored_energy(), 0 here).
+template <NormalModel N, TangentialModel T, bool Stored = true>
 inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& c, double delta, bool touching, double nx,
                                                                  double ny, double nz, double vx, double vy, double vz,
                                                                  double wx, double wy, double wz, double& hx_io,
@@ -129,23 +169,8 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
   const bool bonded = jkr & (bond_io > 0);
   const bool contact = jkr ? (touching | (bonded & (delta > -c.break_depth))) : touching;
 
-  // Contact radius a: sqrt(R* delta) for the Hertz family and mindlin; jkr's is the largest root of the quartic in
-  // x = sqrt(a), f(x) = x^4 - p x - R* delta = 0, by Newton from x0 = max((R* delta)^(1/4), p^(1/3)): f is convex and
-  // increasing beyond the displacement-controlled instability, and x0 lies within 19 % of the root for delta >= 0
-  // (below it: one step overshoots, then the iterates fall monotonically) and above it by at most 10 % down to the
-  // pull-off distance. Six steps reach rounding; divisions and square roots only, so the loop stays vectorised
-  // (a cube root is a scalar call).
   double a = 0, x = 0;
-  if constexpr (jkr) {
-    const double rd = c.r_eff * delta;
-    x = std::max(std::sqrt(std::sqrt(std::max(rd, 0.0))), c.jkr_x0);
-    // Written out: a loop here, even of fixed count, kept GCC from vectorising the candidates' loop.
-    const auto newton = [&](double y) { return y - (y * y * y * y - c.jkr_p * y - rd) / (4 * y * y * y - c.jkr_p); };
-    x = newton(newton(newton(newton(newton(newton(x))))));
-    a = x * x;
-  } else if constexpr (!hooke || mindlin) {
-    a = std::sqrt(c.r_eff * std::max(delta, 0.0));
-  }
+  contact_radius<N, T>(c, delta, a, x);
 
   // Normal force: elastic part and damping.
   double fe;
@@ -194,17 +219,9 @@ inline __attribute__((always_inline)) ContactTerms contact_terms(const PairLaw& 
   out.contact = contact;
   out.slip = contact && slip;
   out.overlap = contact ? delta : 0.0;
-  // The normal law's potential, zero at first touch: hooke k_n delta^2 / 2; Hertz 2/5 F delta; dmt minus the
-  // attraction's F_pulloff delta; jkr the integral of F along its curve from a = 0, 8 E* a^5 / (15 R*^2) -
-  // 2/3 jkr_w a^3 x / R* + 2 pi gamma a^2 (2 pi gamma = jkr_w^2 / (8 E*) = jkr_w^2 / (6 jkr_e R*)).
-  double potential;
-  if constexpr (hooke) potential = 0.5 * kn * delta * delta;
-  else if constexpr (jkr) {
-    const double a2 = a * a;
-    potential = a2 * (0.4 * c.jkr_e * a2 * a / c.r_eff - (2.0 / 3) * c.jkr_w * a * x / c.r_eff +
-                      c.jkr_w * c.jkr_w / (6 * c.jkr_e * c.r_eff));
-  } else potential = 0.4 * kn * a * delta * delta - (cohesive ? c.pulloff * delta : 0.0);
-  out.energy = contact ? potential + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
+  // jkr's hysteresis below needs the potential whether or not the stored energy is asked for.
+  const double potential = Stored || jkr ? normal_potential<N>(c, delta, a, x) : 0.0;
+  out.energy = Stored && contact ? potential + 0.5 * kt * (hx * hx + hy * hy + hz * hz) : 0.0;
   // This step's losses: the dashpots' work over the step's motion (their force times v dt), the tangential one only
   // while sticking, and on slip the Coulomb force times the slip, cap (1 - scale) |g| / k_t.
   out.damping = contact ? dt * (cn * wn * vn + (slip ? 0.0 : ct * (sx * tx + sy * ty + sz * tz))) : 0.0;

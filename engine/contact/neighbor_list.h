@@ -105,6 +105,7 @@ class NeighborList {
   bool searched(std::size_t p) const { return p < search_.size() && search_[p] != 0; }
   const std::vector<std::uint32_t>& keys() const { return keys_; }
   ShearHistory& history() { return history_; }
+  const ShearHistory& history() const { return history_; }
   const std::vector<std::uint64_t>& wall_keys() const { return wall_keys_; }
   std::vector<Vec3>& wall_history() { return wall_history_; }
 

@@ -47,6 +47,13 @@ PairKernel kernel_named(const std::string& name, const ContactLaw& law) {
   return nullptr;
 }
 
+PairEnergyKernel energy_kernel_named(const std::string& name, const ContactLaw& law) {
+  if (name == "avx512") return kernel_avx512::energy_kernel(law);
+  if (name == "avx2") return kernel_avx2::energy_kernel(law);
+  if (name == kBaselineKernel) return kernel_baseline::energy_kernel(law);
+  return nullptr;
+}
+
 }  // namespace
 
 std::vector<PairKernelInfo> pair_kernels() {
@@ -87,6 +94,10 @@ std::string resolve_pair_kernel(const std::string& asked) {
 
 PairKernel pair_kernel(const ContactLaw& law, const std::string& kernel) {
   return kernel_named(resolve_pair_kernel(kernel), law);
+}
+
+PairEnergyKernel pair_energy_kernel(const ContactLaw& law, const std::string& kernel) {
+  return energy_kernel_named(resolve_pair_kernel(kernel), law);
 }
 
 }  // namespace granulab

@@ -31,7 +31,6 @@ struct PairKernelSums {
   Vec3 moment = Vec3::Zero();  ///< sum of (c - x_a) x F (N m)
   std::uint32_t contacts = 0, sliding = 0;
   double overlap = 0;   ///< sum of the overlaps (m)
-  double energy = 0;    ///< elastic energy stored in the contacts after the step (J)
   double damping = 0;   ///< energy the dashpots took in this step (J)
   double friction = 0;  ///< energy lost to sliding in this step (J)
   double nearest2 = 0;  ///< the two-pass path: the smallest squared distance of two candidates' centres (m^2); else 0
@@ -66,6 +65,13 @@ using PairKernel = PairKernelSums (*)(const PairKernelConstants& c, const Offset
                                       const std::uint32_t* keys, std::uint32_t count, double* hx, double* hy,
                                       double* hz, double* bond, KernelScratch* scratch);
 
+/// The elastic energy stored in a grain pair's candidates as its last PairKernel call left them (J): the normal law's
+/// potential and the spring's of those in contact. Kept out of PairKernel, which runs every step, as it is read
+/// rarely (a curve row, an equilibrium check).
+using PairEnergyKernel = double (*)(const PairKernelConstants& c, const OffsetArrays& offsets,
+                                    const std::uint32_t* keys, std::uint32_t count, const double* hx,
+                                    const double* hy, const double* hz, const double* bond);
+
 /// The baseline kernel's name: the x86-64 baseline (SSE2) on x86-64; "generic" elsewhere.
 #if defined(__x86_64__)
 inline constexpr const char* kBaselineKernel = "sse2";
@@ -92,5 +98,7 @@ std::string resolve_pair_kernel(const std::string& requested);
 /// chosen once per run, each compiled for its law. Kernels may differ in their results' last bits (the sums reduce in
 /// as many lanes as the vectors have; docs/model.md).
 PairKernel pair_kernel(const ContactLaw& law, const std::string& kernel = "");
+/// The stored-energy kernel of the same law and instruction set.
+PairEnergyKernel pair_energy_kernel(const ContactLaw& law, const std::string& kernel = "");
 
 }  // namespace granulab

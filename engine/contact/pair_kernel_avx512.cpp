@@ -17,11 +17,13 @@ namespace granulab::kernel_avx512 {
 #include "engine/contact/pair_kernel_body.h"
 
 PairKernel kernel(const ContactLaw& law) { return kernel_for(law); }
+PairEnergyKernel energy_kernel(const ContactLaw& law) { return energy_kernel_for(law); }
 
 }  // namespace granulab::kernel_avx512
 
 #else
 namespace granulab::kernel_avx512 {
 PairKernel kernel(const ContactLaw&) { return nullptr; }
+PairEnergyKernel energy_kernel(const ContactLaw&) { return nullptr; }
 }  // namespace granulab::kernel_avx512
 #endif

@@ -14,5 +14,6 @@ namespace granulab::kernel_baseline {
 #include "engine/contact/pair_kernel_body.h"
 
 PairKernel kernel(const ContactLaw& law) { return kernel_for(law); }
+PairEnergyKernel energy_kernel(const ContactLaw& law) { return energy_kernel_for(law); }
 
 }  // namespace granulab::kernel_baseline

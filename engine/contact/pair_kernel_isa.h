@@ -9,12 +9,15 @@ namespace granulab {
 
 namespace kernel_baseline {
 PairKernel kernel(const ContactLaw& law);
+PairEnergyKernel energy_kernel(const ContactLaw& law);
 }
 namespace kernel_avx2 {
 PairKernel kernel(const ContactLaw& law);
+PairEnergyKernel energy_kernel(const ContactLaw& law);
 }
 namespace kernel_avx512 {
 PairKernel kernel(const ContactLaw& law);
+PairEnergyKernel energy_kernel(const ContactLaw& law);
 }
 
 }  // namespace granulab

@@ -167,8 +167,8 @@ ConfinementReport confine(CrystalSample& sample, const ProgressFn& progress, con
       {
         StageTimer t(control_time);
         const double ke = world.kinetic_energy(),
-                     ee = law.cohesive() ? std::max(world.contact_stats().elastic_energy, cohesive_floor)
-                                         : world.contact_stats().elastic_energy;
+                     ee = law.cohesive() ? std::max(world.elastic_energy(), cohesive_floor)
+                                         : world.elastic_energy();
         const bool walls_ok = std::abs(sample.axial_stress(top) - p0) <= p.equilibrium_tolerance * sigma &&
                               std::abs(sample.axial_stress(bottom) - p0) <= p.equilibrium_tolerance * sigma;
         const bool quiet = ke <= p.kinetic_tolerance * ee;

@@ -376,7 +376,7 @@ double CrystalSample::wall_stress(std::size_t w) const {
 }
 
 double CrystalSample::kinetic_elastic_ratio() const {
-  const double ee = world_.contact_stats().elastic_energy;
+  const double ee = world_.elastic_energy();
   return ee > 0 ? world_.kinetic_energy() / ee : 0;
 }
 

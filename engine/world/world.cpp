@@ -26,6 +26,7 @@ World::World(const GrainTemplate& grain, const ContactLaw& law, const WorldSetti
       law_(law),
       kernel_name_(resolve_pair_kernel(settings.kernel)),
       kernel_(pair_kernel(law, kernel_name_)),
+      energy_kernel_(pair_energy_kernel(law, kernel_name_)),
       settings_(settings),
       // A bonded jkr pair holds to delta_c apart: the skin is widened by it, so candidates reach that far.
       neighbors_(grain.offsets(), grain.diameter(), settings.skin + law.pulloff_distance(grain.radius() / 2),
@@ -113,6 +114,7 @@ void World::half_kick(double h) {
 }
 
 void World::compute_forces() {
+  stored_energy_current_ = false;
   update_angular_velocity(bodies_);  // in case momenta were set by hand since the last drift
   spheres_current_ = false;          // poses may have changed; positions are refreshed on demand
   update_neighbors();
@@ -158,7 +160,6 @@ void World::update_neighbors() {
   pair_contacts_.resize(n_pairs);
   pair_sliding_.resize(n_pairs);
   pair_overlap_.resize(n_pairs);
-  pair_energy_.resize(n_pairs);
   if (u.broad || open_pairs_.size() != n_pairs) {
     open_pairs_.reset(n_pairs);
   } else if (u.pairs_searched > 0) {
@@ -178,12 +179,70 @@ void World::size_kernel_scratch() {
   for (KernelScratch& s : kernel_scratch_) s.reserve(largest);
 }
 
+// A grain pair's constants but its velocities: where its spheres are (x_a, x_b and the rotations times scale, from
+// rotation_), where they touch, and the law with the pair's damping.
+PairKernelConstants World::pair_constants(const BodyPairSpan& gp, const PairLaw& full_size) const {
+  const double d = grain_.diameter(), radius = grain_.radius();
+  const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
+  PairKernelConstants c;
+  // Spheres of scaled grains touch at the sum of their radii; the stiffness stays the law's.
+  const double sa = bodies_.scale[gp.a], sb = bodies_.scale[gp.b];
+  c.diameter = sa == 1 && sb == 1 ? d : radius * (sa + sb), c.radius = radius * sa;
+  const double m_eff = ma * mb / (ma + mb);
+  if (sa == 1 && sb == 1) {
+    c.law = full_size;
+    set_pair_damping(c.law, law_, m_eff);
+  } else {
+    c.law = pair_law(law_, radius * sa * sb / (sa + sb), m_eff, settings_.time_step);
+  }
+  c.xa = bodies_.position[gp.a], c.xb = bodies_.position[gp.b];
+  c.ra = rotation_[gp.a];
+  c.rb = rotation_[gp.b];
+  return c;
+}
+
+// The stored energy of the last evaluation, computed when first asked for after it: the grain pairs with a contact
+// then, in pair order (the same sum whatever the threads), each by the kernel of the evaluation's instruction set.
+double World::elastic_energy() const {
+  if (stored_energy_current_) return stored_energy_;
+  const auto& pairs = neighbors_.body_pairs();
+  const auto& keys = neighbors_.keys();
+  const ShearHistory& history = neighbors_.history();
+  const long n_pairs = long(pairs.size()), n_bodies = long(bodies_.size());
+  double total = 0;
+  if (std::size_t(n_pairs) == pair_contacts_.size()) {  // else not evaluated yet
+    rotation_.resize(n_bodies);
+    pair_energy_.resize(n_pairs);
+    const PairLaw full_size = pair_law(law_, grain_.radius() / 2, 1.0, settings_.time_step);
+#pragma omp parallel if (n_pairs >= 8)
+    {
+#pragma omp for schedule(static)
+      for (long b = 0; b < n_bodies; ++b) rotation_[b] = bodies_.orientation[b].toRotationMatrix() * bodies_.scale[b];
+#pragma omp for schedule(guided)
+      for (long p = 0; p < n_pairs; ++p) {
+        const BodyPairSpan& gp = pairs[p];
+        pair_energy_[p] = 0;
+        if (pair_contacts_[p] == 0) continue;  // none in contact (nor bonded): nothing stored
+        const PairKernelConstants c = pair_constants(gp, full_size);
+        pair_energy_[p] = energy_kernel_(c, offset_arrays_, keys.data() + gp.first, gp.count,
+                                         history.x.data() + gp.first, history.y.data() + gp.first,
+                                         history.z.data() + gp.first,
+                                         history.bonds ? history.bond.data() + gp.first : nullptr);
+      }
+    }
+    for (long p = 0; p < n_pairs; ++p) total += pair_energy_[p];
+  }
+  stored_energy_ = total;
+  stored_energy_current_ = true;
+  return total;
+}
+
 void World::sphere_contact_forces() {
   StageTimer t(times_.contacts);
   const auto& pairs = neighbors_.body_pairs();
   const auto& keys = neighbors_.keys();
   ShearHistory& history = neighbors_.history();
-  const double d = grain_.diameter(), radius = grain_.radius(), dt = settings_.time_step;
+  const double radius = grain_.radius(), dt = settings_.time_step;
   const long n_pairs = long(pairs.size()), n_bodies = long(bodies_.size());
   rotation_.resize(n_bodies);
   pair_damping_.resize(n_pairs);  // not checkpointed (one evaluation's losses): sized here after a restore too
@@ -213,28 +272,14 @@ void World::sphere_contact_forces() {
         skipped += gp.count;
         pair_force_[p] = pair_torque_a_[p] = pair_torque_b_[p] = Vec3::Zero();
         pair_contacts_[p] = pair_sliding_[p] = 0;
-        pair_overlap_[p] = pair_energy_[p] = pair_damping_[p] = pair_friction_[p] = 0;
+        pair_overlap_[p] = pair_damping_[p] = pair_friction_[p] = 0;
         continue;
       }
       const Vec3 xa = bodies_.position[gp.a], xb = bodies_.position[gp.b];
       const Vec3 wa = bodies_.angular_velocity[gp.a], wb = bodies_.angular_velocity[gp.b];
-      const double ma = bodies_.mass[gp.a], mb = bodies_.mass[gp.b];
-      PairKernelConstants c;
-      // Spheres of scaled grains touch at the sum of their radii; the stiffness stays the law's.
-      const double sa = bodies_.scale[gp.a], sb = bodies_.scale[gp.b];
-      c.diameter = sa == 1 && sb == 1 ? d : radius * (sa + sb), c.radius = radius * sa;
-      const double m_eff = ma * mb / (ma + mb);
-      if (sa == 1 && sb == 1) {
-        c.law = full_size;
-        set_pair_damping(c.law, law_, m_eff);
-      } else {
-        c.law = pair_law(law_, radius * sa * sb / (sa + sb), m_eff, dt);
-      }
+      PairKernelConstants c = pair_constants(gp, full_size);
       // Contact points are taken relative to x_a. Then the relative velocity at c is v0 + dw x (c - x_a),
       // and the torques follow from the sums of F and (c - x_a) x F.
-      c.xa = xa, c.xb = xb;
-      c.ra = rotation_[gp.a];
-      c.rb = rotation_[gp.b];
       c.v0 = bodies_.velocity[gp.a] - bodies_.velocity[gp.b] - wb.cross(xa - xb);
       c.dw = wa - wb;
       if (lagged_damping_) {
@@ -258,7 +303,6 @@ void World::sphere_contact_forces() {
       pair_contacts_[p] = s.contacts;
       pair_sliding_[p] = s.sliding;
       pair_overlap_[p] = s.overlap;
-      pair_energy_[p] = s.energy;
       pair_damping_[p] = s.damping;
       pair_friction_[p] = s.friction;
     }
@@ -269,7 +313,7 @@ void World::sphere_contact_forces() {
   candidate_steps_ += double(keys.size());
   skipped_steps_ += double(skipped);
   stats_.contacts = stats_.sliding = 0;
-  stats_.elastic_energy = stats_.damping_loss = stats_.friction_loss = 0;
+  stats_.damping_loss = stats_.friction_loss = 0;
   std::fill(overlap_sum_.begin(), overlap_sum_.end(), 0.0);
   for (long p = 0; p < n_pairs; ++p) {
     const BodyPairSpan& gp = pairs[p];
@@ -279,7 +323,6 @@ void World::sphere_contact_forces() {
     bodies_.torque[gp.b] += pair_torque_b_[p];
     stats_.contacts += pair_contacts_[p];
     stats_.sliding += pair_sliding_[p];
-    stats_.elastic_energy += pair_energy_[p];
     stats_.damping_loss += pair_damping_[p];
     stats_.friction_loss += pair_friction_[p];
     overlap_sum_[gp.a] += pair_overlap_[p];
@@ -377,7 +420,6 @@ void World::state(Archive& a, Self& w) {
   a.values(w.pair_contacts_);
   a.values(w.pair_sliding_);
   a.values(w.pair_overlap_);
-  a.values(w.pair_energy_);
   a.values(w.overlap_sum_);
   a.value(w.time_);
   a.value(w.steps_);
@@ -409,6 +451,7 @@ void World::restore(CheckpointReader& r) {
   spheres_current_ = false;  // sphere positions follow from the restored poses
   size_kernel_scratch();
   open_pairs_.reset(neighbors_.body_pairs().size());  // not saved: the first evaluation finds the open pairs again
+  stored_energy_current_ = false;
 }
 
 }  // namespace granulab

@@ -47,7 +47,6 @@ struct ContactStats {
   std::size_t contacts = 0;    ///< sphere-sphere pairs with overlap > 0
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
-  double elastic_energy = 0;  ///< sum over sphere-sphere contacts of k_n delta^2/2 + |k_t xi|^2/(2 k_t) (J)
   double wall_elastic_energy = 0;  ///< the same over the sphere-wall contacts (J)
   double damping_loss = 0;         ///< the dashpots' work in the last evaluation, all contacts (J)
   double friction_loss = 0;        ///< sliding's loss in the last evaluation, all contacts (J)
@@ -93,6 +92,11 @@ class World {
   /// The run's statistics and model numbers as of now; `wall_seconds` is the caller's measure of the run.
   RunStats run_stats(double wall_seconds) const;
   const ContactStats& contact_stats() const { return stats_; }
+  /// The energy stored in the sphere-sphere contacts by the last force evaluation (J): the normal law's potential plus
+  /// k_t |xi|^2 / 2 per contact (contact_law.h). Computed when first asked for after an evaluation (PairEnergyKernel),
+  /// from the poses and histories it left (and a checkpoint restores): call it before moving bodies by hand. 0 before
+  /// the first evaluation.
+  double elastic_energy() const;
   /// Force on grain a of each grain pair of neighbors().body_pairs() from grain b, last evaluation (N).
   const std::vector<Vec3>& pair_forces() const { return pair_force_; }
   /// Per body: sum of the sphere overlaps with other grains in the last evaluation (m), the paper's Delta.
@@ -120,6 +124,7 @@ class World {
   void update_neighbors();
   void size_kernel_scratch();
   void sphere_contact_forces();
+  PairKernelConstants pair_constants(const BodyPairSpan& gp, const PairLaw& full_size) const;
   void wall_forces();
   /// kick() with the settings' local damping, its energy counted with the dashpots'.
   void half_kick(double h);
@@ -130,6 +135,7 @@ class World {
   ContactLaw law_;
   std::string kernel_name_;  // the instruction set of kernel_ (resolve_pair_kernel())
   PairKernel kernel_;        // the contact loop compiled for law_'s models
+  PairEnergyKernel energy_kernel_;  // and its stored energy, for elastic_energy()
   WorldSettings settings_;
   Bodies bodies_;
   std::vector<Wall> walls_;
@@ -142,14 +148,18 @@ class World {
   // Per-grain-pair results of the contact stage, reduced in pair order.
   std::vector<Vec3> pair_force_, pair_torque_a_, pair_torque_b_;
   std::vector<std::uint32_t> pair_contacts_, pair_sliding_;
-  std::vector<double> pair_overlap_, pair_energy_, pair_damping_, pair_friction_;
+  std::vector<double> pair_overlap_, pair_damping_, pair_friction_;
+  mutable std::vector<double> pair_energy_;  // elastic_energy()'s per pair, summed in pair order
+  // elastic_energy() of the last evaluation, once computed (not saved: a restored world computes it again).
+  mutable bool stored_energy_current_ = false;
+  mutable double stored_energy_ = 0;
   // The dashpots' velocities in a step (DampingVelocity::quarter_step), and whether this evaluation uses them.
   std::vector<Vec3> damping_velocity_, damping_angular_velocity_;
   bool lagged_damping_ = false;
   std::vector<double> overlap_sum_;
   std::vector<KernelScratch> kernel_scratch_;  // per thread, for the kernel's two-pass path
   OpenPairs open_pairs_;                       // grain pairs apart by more than they have moved since
-  std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
+  mutable std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
   // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
   // centre (N m), and whether it touched.
   std::vector<Vec3> wall_force_, wall_torque_;

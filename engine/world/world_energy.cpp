@@ -28,7 +28,7 @@ void World::add_half_step_work(double dt) {
 
 void World::start_energy_balance() {
   energy_ = EnergyTotals{};
-  energy_.elastic_start = stats_.elastic_energy + stats_.wall_elastic_energy;
+  energy_.elastic_start = elastic_energy() + stats_.wall_elastic_energy;
   energy_.kinetic_start = kinetic_energy();
 }
 
@@ -36,7 +36,7 @@ EnergyBalance World::energy_balance() const {
   EnergyBalance e;
   e.platen_work = energy_.platen_work;
   e.confinement_work = energy_.confinement_work;
-  e.elastic_energy = stats_.elastic_energy + stats_.wall_elastic_energy;
+  e.elastic_energy = elastic_energy() + stats_.wall_elastic_energy;
   e.friction_dissipation = energy_.friction;
   e.damping_dissipation = energy_.damping;
   e.kinetic_energy = kinetic_energy();
