@@ -9,8 +9,9 @@ namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'N', 'L', 'C', 'K', 'P', 'T'};
 constexpr std::uint32_t kVersion =
-    8;  // raise when any saved layout changes (3: stage times, shear history per component; 4: candidates per grain
-        // pair; 5: the energy balance; 6: stick-slip events; 7: candidates' bond flags; 8: the wrapped bag's flag)
+    9;  // raise when any saved layout changes (3: stage times, shear history per component; 4: candidates per grain
+        // pair; 5: the energy balance; 6: stick-slip events; 7: candidates' bond flags; 8: the wrapped bag's flag;
+        // 9: the open grain pairs, no stored energy per pair)
 constexpr std::size_t kHead = sizeof kMagic + sizeof kVersion, kTrailer = sizeof(std::uint64_t);
 constexpr std::size_t kReadBytes = std::size_t(1) << 20;  // what the reader asks of its source at a time
 

@@ -431,6 +431,7 @@ void World::state(Archive& a, Self& w) {
   a.value(w.energy_);
   a.value(w.times_);
   w.neighbors_.state(a);
+  w.open_pairs_.state(a);
 }
 
 void World::save(CheckpointWriter& w) const {
@@ -450,7 +451,6 @@ void World::restore(CheckpointReader& r) {
   state(r, *this);
   spheres_current_ = false;  // sphere positions follow from the restored poses
   size_kernel_scratch();
-  open_pairs_.reset(neighbors_.body_pairs().size());  // not saved: the first evaluation finds the open pairs again
   stored_energy_current_ = false;
 }
 

@@ -47,7 +47,7 @@ struct ContactStats {
   std::size_t contacts = 0;    ///< sphere-sphere pairs with overlap > 0
   std::size_t sliding = 0;     ///< of which at the Coulomb limit
   std::size_t wall_contacts = 0;
-  double wall_elastic_energy = 0;  ///< the same over the sphere-wall contacts (J)
+  double wall_elastic_energy = 0;  ///< energy stored in the sphere-wall contacts (J); the spheres': elastic_energy()
   double damping_loss = 0;         ///< the dashpots' work in the last evaluation, all contacts (J)
   double friction_loss = 0;        ///< sliding's loss in the last evaluation, all contacts (J)
 };
@@ -158,7 +158,7 @@ class World {
   bool lagged_damping_ = false;
   std::vector<double> overlap_sum_;
   std::vector<KernelScratch> kernel_scratch_;  // per thread, for the kernel's two-pass path
-  OpenPairs open_pairs_;                       // grain pairs apart by more than they have moved since
+  OpenPairs open_pairs_;                       // grain pairs apart by more than they have moved since (saved)
   mutable std::vector<Mat3> rotation_;  // body -> world rotation of each body times its scale, for the contact stage
   // Per sphere-wall candidate, the last evaluation: force on the sphere (N), its moment about the grain
   // centre (N m), and whether it touched.

@@ -110,7 +110,8 @@ void expect_resumes_bit_identical(const std::string& text) {
     EXPECT_EQ(snapshots_text(resumed), snapshots_text(whole));
     EXPECT_EQ(resumed.summary_.at("steps"), whole.summary_.at("steps"));
     for (const char* key : {"first_yield", "segments", "cycles", "fixed_forces", "peak", "snapshots",
-                            "tensile_strength", "failure_strain", "failure_plane", "stopped"}) {
+                            "tensile_strength", "failure_strain", "failure_plane", "stopped", "mean_candidates",
+                            "mean_skipped_candidates"}) {
       if (whole.summary_.contains(key)) {
         EXPECT_EQ(resumed.summary_.at(key), whole.summary_.at(key)) << key;
       }

@@ -36,7 +36,8 @@ void close_in(const Vec3& dir, const Quat& qb, double gap_share, const Vec3& spi
   Material mat;
   const double d = grain.diameter();
   const double dt = 0.2 * contact_time_scale(grain, mat.youngs_modulus, mat.density);
-  WorldSettings settings{dt, 0.1 * d, Vec3::Zero()};
+  WorldSettings settings;
+  settings.time_step = dt, settings.skin = 0.1 * d;
   World world(grain, contact_law(grain, mat), settings);
   const Vec3 u = dir.normalized();
   world.add_grain(Vec3::Zero(), Quat::Identity(), mat.density, Motion::prescribed);
