@@ -242,38 +242,36 @@ double pair_stored_energy(const PairKernelConstants& c, const OffsetArrays& offs
   return energy;
 }
 
-template <NormalModel N>
-PairEnergyKernel energy_kernel_of(TangentialModel t) {
-  return t == TangentialModel::mindlin ? &pair_stored_energy<N, TangentialModel::mindlin>
-                                       : &pair_stored_energy<N, TangentialModel::linear_history>;
+// The instantiation of a kernel template for `law`'s normal and tangential models, both kernels' one dispatch:
+// Kernel<N, T>::get is the function for models N, T.
+template <template <NormalModel, TangentialModel> class Kernel, NormalModel N>
+auto of_tangential(TangentialModel t) {
+  return t == TangentialModel::mindlin ? Kernel<N, TangentialModel::mindlin>::get
+                                       : Kernel<N, TangentialModel::linear_history>::get;
 }
 
-/// This instruction set's stored-energy kernel of `law`'s models.
-inline PairEnergyKernel energy_kernel_for(const ContactLaw& law) {
+template <template <NormalModel, TangentialModel> class Kernel>
+auto of_law(const ContactLaw& law) -> decltype(of_tangential<Kernel, NormalModel::hooke>(law.tangential)) {
   switch (law.normal) {
-    case NormalModel::hooke: return energy_kernel_of<NormalModel::hooke>(law.tangential);
-    case NormalModel::hertz: return energy_kernel_of<NormalModel::hertz>(law.tangential);
-    case NormalModel::hertz_material: return energy_kernel_of<NormalModel::hertz_material>(law.tangential);
-    case NormalModel::dmt: return energy_kernel_of<NormalModel::dmt>(law.tangential);
-    case NormalModel::jkr: return energy_kernel_of<NormalModel::jkr>(law.tangential);
+    case NormalModel::hooke: return of_tangential<Kernel, NormalModel::hooke>(law.tangential);
+    case NormalModel::hertz: return of_tangential<Kernel, NormalModel::hertz>(law.tangential);
+    case NormalModel::hertz_material: return of_tangential<Kernel, NormalModel::hertz_material>(law.tangential);
+    case NormalModel::dmt: return of_tangential<Kernel, NormalModel::dmt>(law.tangential);
+    case NormalModel::jkr: return of_tangential<Kernel, NormalModel::jkr>(law.tangential);
   }
   return nullptr;
 }
 
-template <NormalModel N>
-PairKernel kernel_of(TangentialModel t) {
-  return t == TangentialModel::mindlin ? &pair_contacts<N, TangentialModel::mindlin>
-                                       : &pair_contacts<N, TangentialModel::linear_history>;
-}
+template <NormalModel N, TangentialModel T>
+struct ForcesOf {
+  static constexpr PairKernel get = &pair_contacts<N, T>;
+};
+template <NormalModel N, TangentialModel T>
+struct StoredEnergyOf {
+  static constexpr PairEnergyKernel get = &pair_stored_energy<N, T>;
+};
 
 /// This instruction set's kernel of `law`'s normal and tangential models.
-inline PairKernel kernel_for(const ContactLaw& law) {
-  switch (law.normal) {
-    case NormalModel::hooke: return kernel_of<NormalModel::hooke>(law.tangential);
-    case NormalModel::hertz: return kernel_of<NormalModel::hertz>(law.tangential);
-    case NormalModel::hertz_material: return kernel_of<NormalModel::hertz_material>(law.tangential);
-    case NormalModel::dmt: return kernel_of<NormalModel::dmt>(law.tangential);
-    case NormalModel::jkr: return kernel_of<NormalModel::jkr>(law.tangential);
-  }
-  return nullptr;
-}
+inline PairKernel kernel_for(const ContactLaw& law) { return of_law<ForcesOf>(law); }
+/// This instruction set's stored-energy kernel of `law`'s models.
+inline PairEnergyKernel energy_kernel_for(const ContactLaw& law) { return of_law<StoredEnergyOf>(law); }
