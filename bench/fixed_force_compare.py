@@ -3,7 +3,7 @@
 
     /usr/bin/python3 bench/fixed_force_compare.py [--grains 3,7,4] [--edge-spheres 4] [--rate 2e-5]
         [--max-strain 0.03] [--pressure 60000] [--variants vector,in_plane,cross_section]
-        [--granulab fixed_forces,membrane] [--ranks 2] [--out out/fixed_force_compare]
+        [--granulab fixed_forces,membrane,membrane:defaults] [--ranks 2] [--out out/fixed_force_compare]
 
 The LAMMPS side (docs/results.md, "Fixed forces against LAMMPS"): build/bench/fixed_force_lammps writes the crystal
 as granulab builds it (the lattice pre-strained by eps0, platens just touching the end rows) and the paper's
@@ -19,13 +19,17 @@ fixed_forces loads them), both (in_plane and cross_section), bag (granulab's fix
 on the sample as built, at the grains' centres, the ends' p0 x cross-section shared by projected area).
 
 The granulab side: `granulab run` on the same crystal, material, damping, p0 and rate, with
-loading.confinement fixed_forces and membrane (the bag confines first, then the loading starts).
+loading.confinement fixed_forces and membrane (the bag confines first, then the loading starts). A confinement
+named `NAME:defaults` runs at granulab's own damping and integration instead of LAMMPS' (docs/model.md: damping
+0.05, the quarter-step damping velocity, 0.3 t0): the bag confines the dense 6 x 14 x 4 block at those in 600
+steps, and at LAMMPS' damping 0.1 and 0.2 t0 not at all (it was still confining, then came apart, after
+197,600 steps). A granulab run that fails is reported and left out; the others go on.
 
 Prints the mean deviator / p0 over the strain windows 0.1-0.5, 0.5-1, ..., 2.5-3 % (each curve resampled on a
 uniform strain grid) and every curve's ratio to the first LAMMPS variant; writes windows.csv and each curve. Then
 the time per step of each run (LAMMPS: its loop time; granulab: its run, set-up included) and how many times
-faster granulab's first run stepped than the first LAMMPS variant: the dense, confined case of issue 30 is
-`--grains 6,14,4 --edge-spheres 10 --max-strain 0.003 --granulab face_forces` (bench/README.md).
+faster each granulab run stepped than the first LAMMPS variant: the dense, confined case of issue 30 and 52 is
+`--grains 6,14,4 --edge-spheres 10 --max-strain 0.003 --granulab face_forces,membrane:defaults` (bench/README.md).
 Standard library only; LAMMPS (Debian's lmp, mpirun) is installed if missing (bench/lammps_compare.py).
 """
 import argparse
@@ -38,7 +42,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
-from lammps_compare import ensure_lammps, read_params, run_measured  # noqa: E402
+from lammps_compare import die, ensure_lammps, read_params, run_measured  # noqa: E402
 
 BUILD = os.path.join(ROOT, os.environ.get("BUILD", "build"))
 WINDOWS = [(0.001, 0.005), (0.005, 0.01), (0.01, 0.015), (0.015, 0.02), (0.02, 0.025), (0.025, 0.03)]
@@ -121,7 +125,7 @@ def run_lammps(variant, args, out):
             step, f_bottom, f_top = (float(x) for x in line.split()[:3])
             # The platens push the crystal: bottom +z, top -z; their mean over the cross-section.
             curve.append((speed * dt * step / length, (f_bottom - f_top) / 2 / area))
-    print("  LAMMPS %-13s %6.0f s  (%s)" % (variant, seconds, folder))
+    print("  %-26s %6.0f s  (%s)" % ("LAMMPS " + variant, seconds, folder))
     with open(os.path.join(folder, "log.lammps")) as f:
         loop = [line.split() for line in f if line.startswith("Loop time of")]
     # "Loop time of T on N procs for S steps with A atoms"
@@ -133,7 +137,9 @@ def run_lammps(variant, args, out):
 STEP_SECONDS = {}
 
 
-def run_granulab(confinement, args, out):
+def run_granulab(entry, args, out):
+    """granulab's run of one --granulab entry, CONFINEMENT or CONFINEMENT:defaults; its curve, or None if it failed."""
+    confinement, _, how = entry.partition(":")
     x, z, y = (int(v) for v in args.grains.split(","))
     spec = {"experiment": "crystal_compression",
             "grain": {"edge_spheres": args.edge_spheres, "overlap": 0.75},
@@ -144,20 +150,27 @@ def run_granulab(confinement, args, out):
             "output": {"curve_points": 400, "snapshot_strains": []},
             # LAMMPS' velocity Verlet: the dashpots see the half-step velocity; the time step of fixed_force_lammps.
             "run": {"damping_velocity": "half_step", "time_step_factor": 0.2},
-            "label": "fixed_force_compare: %s, %s" % (args.grains, confinement)}
-    folder = os.path.join(out, "granulab_" + confinement)
+            "label": "fixed_force_compare: %s, %s" % (args.grains, entry)}
+    if how == "defaults":
+        del spec["material"]["damping"], spec["run"]
+    name = "granulab " + entry
+    folder = os.path.join(out, "granulab_" + entry.replace(":", "_"))
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "spec.json"), "w") as f:
         json.dump(spec, f, indent=1)
-    seconds, _ = run_measured([os.path.join(BUILD, "granulab"), "run", os.path.join(folder, "spec.json"), "--out",
-                               os.path.join(folder, "run"), "--threads", str(args.ranks)],
-                              os.path.join(folder, "run.log"))
+    try:
+        seconds, _ = run_measured([os.path.join(BUILD, "granulab"), "run", os.path.join(folder, "spec.json"),
+                                   "--out", os.path.join(folder, "run"), "--threads", str(args.ranks)],
+                                  os.path.join(folder, "run.log"))
+    except SystemExit as failed:  # run_measured printed the log's tail
+        print("  %s failed, left out (%s)" % (name, failed), file=sys.stderr)
+        return None
     with open(os.path.join(folder, "run", "curve.csv")) as f:
         curve = [(0.0, 0.0)] + [(float(r["strain"]), float(r["deviator"])) for r in csv.DictReader(f)]
     with open(os.path.join(folder, "run", "summary.json")) as f:
         summary = json.load(f)
-    STEP_SECONDS["granulab " + confinement] = summary["wall_seconds"] / max(1, summary["steps"])
-    print("  granulab %-11s %6.0f s  (%s)" % (confinement, seconds, folder))
+    STEP_SECONDS[name] = summary["wall_seconds"] / max(1, summary["steps"])
+    print("  %-26s %6.0f s  (%s; kernel %s)" % (name, seconds, folder, summary.get("kernel", "?")))
     return curve
 
 
@@ -184,24 +197,32 @@ def main():
     ap.add_argument("--max-strain", type=float, default=0.03)
     ap.add_argument("--pressure", type=float, default=60e3)
     ap.add_argument("--variants", default="vector", help="LAMMPS set-ups, comma-separated: " + ",".join(VARIANTS))
-    ap.add_argument("--granulab", default="fixed_forces,membrane", help="granulab confinements (or none)")
+    ap.add_argument("--granulab", default="fixed_forces,membrane", help="granulab confinements (or none); NAME:defaults at granulab's own damping and integration")
     ap.add_argument("--ranks", type=int, default=2, help="LAMMPS MPI ranks and granulab threads")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "fixed_force_compare"))
     args = ap.parse_args()
+    entries = [c for c in args.granulab.split(",") if c and c != "none"]
+    for c in entries:
+        if c.partition(":")[2] not in ("", "defaults"):
+            die("--granulab %s: the only suffix is :defaults (granulab's own damping and integration)" % c)
     ensure_lammps()
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     curves = []
     for v in args.variants.split(","):
         curves.append(("LAMMPS " + v, run_lammps(v, args, out)))
-    for c in [c for c in args.granulab.split(",") if c and c != "none"]:
-        curves.append(("granulab " + c, run_granulab(c, args, out)))
+    for c in entries:
+        curve = run_granulab(c, args, out)
+        if curve is not None:
+            curves.append(("granulab " + c, curve))
     windows = [w for w in WINDOWS if w[1] <= args.max_strain + 1e-12]
+    if not windows and args.max_strain > WINDOWS[0][0]:  # a short run (the speed benchmark): one window to its end
+        windows = [(WINDOWS[0][0], args.max_strain)]
     means = {name: [window_mean(curve, lo, hi) / args.pressure for lo, hi in windows] for name, curve in curves}
     base = curves[0][0]
     print("\n%s crystal, N_e = %d, p0 = %.0f kPa, R = %g: mean deviator / p0 per strain window (ratio to %s)"
           % (args.grains.replace(",", " x "), args.edge_spheres, args.pressure / 1e3, args.rate, base))
-    print("| curve | " + " | ".join("%.1f-%.1f %%" % (100 * lo, 100 * hi) for lo, hi in windows) + " |")
+    print("| curve | " + " | ".join("%.2g-%.2g %%" % (100 * lo, 100 * hi) for lo, hi in windows) + " |")
     print("| --- |" + " --- |" * len(windows))
     for name, _ in curves:
         cells = ["%.2f" % m if name == base else "%.2f (%.2f)" % (m, m / b) for m, b in zip(means[name], means[base])]
@@ -215,9 +236,9 @@ def main():
             f.write("strain,deviator\n" + "".join("%.9g,%.9g\n" % row for row in curve))
     print("\ntime per step (%d ranks / threads): " % args.ranks +
           ", ".join("%s %.3g ms" % (name, 1e3 * STEP_SECONDS[name]) for name, _ in curves if name in STEP_SECONDS))
-    ours = [name for name, _ in curves if name.startswith("granulab")]
-    if ours and base in STEP_SECONDS:
-        print("%s steps %.1fx faster than %s" % (ours[0], STEP_SECONDS[base] / STEP_SECONDS[ours[0]], base))
+    for name in [name for name, _ in curves if name.startswith("granulab")]:
+        if base in STEP_SECONDS:
+            print("%s steps %.1fx faster than %s" % (name, STEP_SECONDS[base] / STEP_SECONDS[name], base))
 
 
 if __name__ == "__main__":
