@@ -1,0 +1,7 @@
+"""`python -m granulab ...`: the package's command line (granulab.cli)."""
+
+import sys
+
+from granulab.cli import main
+
+sys.exit(main())

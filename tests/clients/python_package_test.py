@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""The Python package (clients/python) as a researcher installs and uses it (issue 53, part 1).
+
+pip installs it into a fresh virtual environment with no index at all (PIP_NO_INDEX=1: a download attempt fails
+the install), then a script run by that environment's interpreter from an empty folder (so only the installed copy
+can be imported) drives a real granulabd on loopback with its own SQLite file: jobs are Futures that complete
+through concurrent.futures.as_completed, callbacks fire, granulab.wait shows progress, a cancelled job's Future is
+cancelled and the server says so. Exits 77 (a skip, said to ctest) when this Python has no venv or pip.
+"""
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+
+SCRIPT = r'''
+import concurrent.futures, json, sys, threading, time
+import granulab
+
+assert "site-packages" in granulab.__file__, granulab.__file__  # the installed copy, not the checkout's
+client = granulab.Client(sys.argv[1], poll=0.1)
+tiny = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3}, "loading": {"rate_number": 1e-3},
+        "output": {"curve_points": 10}}
+slow = dict(tiny, loading={"rate_number": 1e-8}, output={"curve_points": 1})
+
+# Three jobs, as Futures: as_completed yields each once, with its final status and summary.
+jobs = [client.submit(dict(tiny, label="p%d" % i)) for i in range(3)]
+assert all(isinstance(j, concurrent.futures.Future) for j in jobs)
+called = []
+lock = threading.Lock()
+for j in jobs:
+    j.add_done_callback(lambda f: (lock.acquire(), called.append(f.id), lock.release()))
+seen = []
+for job in concurrent.futures.as_completed(jobs, timeout=60):
+    st = job.result()
+    assert st["status"] == "succeeded" and st["id"] == job.id, st
+    assert st["summary"]["steps"] > 0, st["summary"]
+    assert job.progress == 1.0 and "succeeded" in repr(job), repr(job)
+    seen.append(job.id)
+assert sorted(seen) == sorted(j.id for j in jobs), (seen, jobs)
+time.sleep(0.2)
+assert sorted(called) == sorted(seen), (called, seen)
+
+# granulab.wait: one display for several jobs (a plain line per change here: stderr is not a terminal).
+more = [client.submit(dict(tiny, label="q%d" % i)) for i in range(2)]
+done = granulab.wait(more, timeout=60)
+assert all(j.done() and j.result()["status"] == "succeeded" for j in done)
+
+# A job of minutes, cancelled: its Future is cancelled and the server says cancelled.
+long_job = client.submit(slow)
+assert not long_job.done()
+assert long_job.cancel() is True
+assert long_job.cancelled()
+try:
+    long_job.result(timeout=1)
+    raise AssertionError("a cancelled job gave a result")
+except concurrent.futures.CancelledError:
+    pass
+for _ in range(100):
+    if client.status(long_job)["status"] == "cancelled":
+        break
+    time.sleep(0.1)
+assert client.status(long_job)["status"] == "cancelled", client.status(long_job)
+
+# A job cancelled behind the Future's back (on the server) is seen as cancelled by the watcher.
+other = client.submit(slow)
+client.cancel(other.id)
+try:
+    other.result(timeout=30)
+    raise AssertionError("a job cancelled on the server gave a result")
+except concurrent.futures.CancelledError:
+    pass
+print("package ok", json.dumps(seen))
+'''
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def main():
+    python = "/usr/bin/python3" if os.access("/usr/bin/python3", os.X_OK) else sys.executable
+    probe = subprocess.run([python, "-c", "import venv, ensurepip"], capture_output=True)
+    if probe.returncode != 0:
+        print("SKIPPED: %s has no venv/ensurepip (Debian: python3-venv)" % python)
+        return 77
+    tmp = tempfile.mkdtemp(prefix="granulab_pkg_")
+    daemon = None
+    try:
+        env_dir = os.path.join(tmp, "env")
+        subprocess.run([python, "-m", "venv", env_dir], check=True)
+        pip = os.path.join(env_dir, "bin", "pip")
+        env = dict(os.environ, PIP_NO_INDEX="1", PIP_DISABLE_PIP_VERSION_CHECK="1")
+        # A copy of the package's folder: pip builds in place, and the checkout stays as it is.
+        src = os.path.join(tmp, "src")
+        shutil.copytree(os.path.join(ROOT, "clients", "python"), src,
+                        ignore=shutil.ignore_patterns("__pycache__"))
+        r = subprocess.run([pip, "install", src], env=env, capture_output=True, text=True)
+        if r.returncode != 0:
+            print(r.stdout[-3000:], r.stderr[-3000:])
+            print("FAIL: pip install ./clients/python with no index")
+            return 1
+        port = free_port()
+        log = open(os.path.join(tmp, "daemon.log"), "w+")
+        daemon = subprocess.Popen([DAEMON, "--port", str(port), "--db", os.path.join(tmp, "t.db"), "--workers", "2"],
+                                  stdout=log, stderr=subprocess.STDOUT,
+                                  env=dict(os.environ, OMP_WAIT_POLICY="passive"))
+        deadline = time.monotonic() + 20
+        while True:
+            try:
+                with urllib.request.urlopen("http://127.0.0.1:%d/v1/health" % port, timeout=2):
+                    break
+            except OSError:
+                if daemon.poll() is not None or time.monotonic() > deadline:
+                    log.seek(0)
+                    print("FAIL: granulabd did not start:", log.read()[-3000:])
+                    return 1
+                time.sleep(0.1)
+        work = os.path.join(tmp, "work")
+        os.mkdir(work)
+        r = subprocess.run([os.path.join(env_dir, "bin", "python"), "-c", SCRIPT, "http://127.0.0.1:%d" % port],
+                           cwd=work, capture_output=True, text=True, timeout=240)
+        print(r.stdout)
+        print(r.stderr[-4000:])
+        if r.returncode != 0 or "package ok" not in r.stdout:
+            print("FAIL: the package's script")
+            return 1
+        if "2/2 jobs done, 100.0 %" not in r.stderr:
+            print("FAIL: granulab.wait showed no progress line")
+            return 1
+        return 0
+    finally:
+        if daemon is not None and daemon.poll() is None:
+            daemon.send_signal(signal.SIGTERM)
+            try:
+                daemon.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                daemon.kill()
+                daemon.wait()
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
