@@ -5,7 +5,9 @@ pip installs it into a fresh virtual environment with no index at all (PIP_NO_IN
 the install), then a script run by that environment's interpreter from an empty folder (so only the installed copy
 can be imported) drives a real granulabd on loopback with its own SQLite file: jobs are Futures that complete
 through concurrent.futures.as_completed, callbacks fire, granulab.wait shows progress, a cancelled job's Future is
-cancelled and the server says so. Exits 77 (a skip, said to ctest) when this Python has no venv or pip.
+cancelled and the server says so; a sweep's frame has a row per job with the varied value as a column, its
+curves come in each job's natural units (p0, %) and SI (kPa), a snapshot's grains as a table, pictures as SVG.
+Exits 77 (a skip, said to ctest) when this Python has no venv or pip.
 """
 
 import os
@@ -26,7 +28,7 @@ SCRIPT = r'''
 import concurrent.futures, json, sys, threading, time
 import granulab
 
-assert "site-packages" in granulab.__file__, granulab.__file__  # the installed copy, not the checkout's
+assert "/env/lib/" in granulab.__file__, granulab.__file__  # the installed copy, not the checkout's
 client = granulab.Client(sys.argv[1], poll=0.1)
 tiny = {"experiment": "two_cube_sliding", "grain": {"edge_spheres": 3}, "loading": {"rate_number": 1e-3},
         "output": {"curve_points": 10}}
@@ -79,6 +81,40 @@ try:
     raise AssertionError("a job cancelled on the server gave a result")
 except concurrent.futures.CancelledError:
     pass
+
+# A sweep over p0 of a small crystal: one row per job with the varied value as a plain column, and the curves in
+# natural units, each job's stresses over its own p0 (the deviator in p0 = the SI deviator / p0, strain in %).
+crystal = {"experiment": "crystal_compression", "grain": {"edge_spheres": 2},
+           "crystal": {"grains_x": 2, "rows_z": 3, "layers_y": 2},
+           "loading": {"max_strain": 0.01, "rate_number": 1e-3}, "output": {"curve_points": 10}}
+pressures = [20e3, 40e3]
+sweep = client.submit_sweep(crystal, {"loading.confining_pressure": pressures}, label="package p0")
+assert isinstance(sweep, granulab.Sweep) and len(sweep.jobs) == 2
+sweep.wait(timeout=120, progress=False)
+frame = sweep.frame()
+assert len(frame) == 2, frame
+assert sorted(frame["confining_pressure"]) == pressures, frame.columns
+assert list(frame["status"]) == ["succeeded"] * 2, frame
+assert "first_yield_found" in frame.columns and "peak_deviator_over_p0" in frame.columns, list(frame.columns)
+natural = sweep.curves(units="natural")
+si = sweep.curves(units="si")
+assert natural.attrs["units"]["deviator"] == "p0" and natural.attrs["units"]["strain"] == "%", natural.attrs
+for job in sweep.jobs:
+    raw = job.frame()  # every column, stored (SI: Pa)
+    p0 = frame.loc[frame["job"] == job.id, "confining_pressure"].iloc[0]
+    mine = natural[natural["job"] == job.id]
+    assert len(mine) == len(raw) > 3, (len(mine), len(raw))
+    for a, b in zip(mine["deviator"], raw["deviator"]):
+        assert abs(a - b / p0) <= 1e-12 * max(1.0, abs(b / p0)), (a, b, p0)
+    for a, b in zip(mine["strain"], raw["strain"]):
+        assert abs(a - 100 * b) <= 1e-12, (a, b)
+    kpa = si[si["job"] == job.id]["deviator"]
+    assert all(abs(a - b / 1e3) <= 1e-9 * max(1.0, abs(b)) for a, b in zip(kpa, raw["deviator"]))
+    # A snapshot's grains, one row per grain, integer ids; the server's pictures as SVG.
+    snap = job.snapshot_frame(1)
+    assert len(snap) == len(client.snapshot(job, 1)["grains"]["x"]) and str(snap["id"].dtype).startswith("int")
+    assert "<svg" in job.curve_svg() and "<svg" in job.snapshot_svg(1)
+assert "<svg" in sweep.curves_svg()._repr_svg_()
 print("package ok", json.dumps(seen))
 '''
 
@@ -99,7 +135,8 @@ def main():
     daemon = None
     try:
         env_dir = os.path.join(tmp, "env")
-        subprocess.run([python, "-m", "venv", env_dir], check=True)
+        # Debian's python3-pandas (the optional extra) seen through the system's site-packages.
+        subprocess.run([python, "-m", "venv", "--system-site-packages", env_dir], check=True)
         pip = os.path.join(env_dir, "bin", "pip")
         env = dict(os.environ, PIP_NO_INDEX="1", PIP_DISABLE_PIP_VERSION_CHECK="1")
         # A copy of the package's folder: pip builds in place, and the checkout stays as it is.
@@ -136,7 +173,7 @@ def main():
         if r.returncode != 0 or "package ok" not in r.stdout:
             print("FAIL: the package's script")
             return 1
-        if "2/2 jobs done, 100.0 %" not in r.stderr:
+        if "2/2 jobs done, 100.0 %" not in r.stderr and "2.00/2 jobs" not in r.stderr:  # the line, or tqdm's
             print("FAIL: granulab.wait showed no progress line")
             return 1
         return 0

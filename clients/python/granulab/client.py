@@ -265,12 +265,20 @@ class Client:
                                                  "owner": owner}).get("jobs", [])
 
     def submit_sweep(self, spec, vary, mode="product", label="", priority=None):
-        """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns (sweep id, [job ids]).
+        """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns a granulab.Sweep (its jobs as Futures,
+        frame(), curves(): granulab.sweeps).
 
         Each value is the field's value as the spec has it, so a field that is itself a list takes a list per
         point: {"loading.axis": [[1, 1, 0], [1, 1, 1]]} is two jobs, one along each axis (likewise
         "output.snapshot_strains": [[0, 0.01], [0, 0.02]]). mode "zip" pairs the lists (they must be as long as
         each other) instead of running every combination."""
+        from granulab.sweeps import Sweep
+
+        sweep_id, job_ids = self.submit_sweep_ids(spec, vary, mode=mode, label=label, priority=priority)
+        return Sweep(self, sweep_id, job_ids, spec if isinstance(spec, dict) else {}, dict(vary))
+
+    def submit_sweep_ids(self, spec, vary, mode="product", label="", priority=None):
+        """submit_sweep's request alone: returns (sweep id, [job ids])."""
         body = json.dumps({"spec": spec, "vary": vary, "mode": mode, "label": label})
         r = self._request("POST", "/v1/sweeps", {"priority": priority}, body=body)
         return r["id"], r["jobs"]
@@ -292,10 +300,28 @@ class Client:
         """Every experiment the server runs: its spec fields (default, range, unit), curve columns and headline."""
         return self._request("GET", "/v1/experiments").get("experiments", [])
 
+    def experiment(self, name):
+        """One experiment's entry of GET /v1/experiments (fields, curve columns, headline), asked once per client
+        (a server's experiments do not change while it runs). KeyError for a name the server does not run."""
+        cache = self.__dict__.setdefault("_experiments", {})
+        if name not in cache:
+            for e in self.experiments():
+                cache[e.get("name")] = e
+        if name not in cache:
+            raise KeyError(f"the server runs no experiment named {name!r}")
+        return cache[name]
+
     def headline(self, experiment):
         """What `experiment` (its name) shows first, as GET /v1/experiments has it: its key values' labels, units
         and summary paths among them (for key_values()). KeyError for a name the server does not run."""
-        for e in self.experiments():
-            if e.get("name") == experiment:
-                return e["headline"]
-        raise KeyError(f"the server runs no experiment named {experiment!r}")
+        return self.experiment(experiment)["headline"]
+
+    def field_defaults(self, experiment):
+        """{dotted spec field: its default} of an experiment."""
+        return {f["field"]: f.get("default") for f in self.experiment(experiment).get("fields", [])}
+
+    def picture(self, path, **query):
+        """An SVG the server draws (the routes ending in .svg), as a Picture: a str that a notebook shows inline."""
+        from granulab.pictures import Picture
+
+        return Picture(self._request("GET", path, {k: v for k, v in query.items() if v is not None}, raw=True))

@@ -78,6 +78,45 @@ class Job(concurrent.futures.Future):
     def snapshots(self) -> List[Dict[str, Any]]:
         return self.client.snapshots(self.id)
 
+    def curve_rows(self, units: Optional[str] = None):
+        """The curve as plain columns: every column as stored (SI) with units None, or the headline's x and series
+        in `units` "natural" or "si" (granulab.frames.headline_columns). Returns (columns, {column: unit})."""
+        from granulab.frames import headline_columns
+
+        curve = self.curve()
+        experiment = self.client.experiment((self.last or self.status())["experiment"])
+        if units is None:
+            unit_of = {c["name"]: c["unit"] for c in experiment.get("curve_columns", [])}
+            return {name: curve[name] for name in curve["columns"]}, unit_of
+        spec = (self.last or {}).get("spec") or self.status().get("spec") or {}
+        defaults = {f["field"]: f.get("default") for f in experiment.get("fields", [])}
+        return headline_columns(curve, experiment["headline"], spec, defaults, units)
+
+    def frame(self, units: Optional[str] = None):
+        """The curve as a pandas DataFrame (curve_rows); attrs["units"] gives each column's unit."""
+        from granulab.frames import to_frame
+
+        return to_frame(*self.curve_rows(units))
+
+    def snapshot_frame(self, k: int, section: str = "grains"):
+        """Snapshot k's "grains", "interfaces" or "contact_network" as a pandas DataFrame, one row per grain or
+        grain pair (granulab.frames.snapshot_columns)."""
+        from granulab.frames import snapshot_columns, to_frame
+
+        return to_frame(snapshot_columns(self.client.snapshot(self.id, k), section))
+
+    def curve_svg(self, units: str = "natural", y: Optional[str] = None):
+        """The server's picture of the curve (shown inline in a notebook)."""
+        return self.client.picture(f"/v1/jobs/{self.id}/curve.svg", units=units, y=y)
+
+    def snapshot_svg(self, k: int, field: Optional[str] = None, slice: Optional[int] = None):
+        """Snapshot k's section through the crystal, coloured by `field` (docs/api.md, "Pictures")."""
+        return self.client.picture(f"/v1/jobs/{self.id}/snapshots/{int(k)}.svg", field=field, slice=slice)
+
+    def dic_svg(self, k: int, field: Optional[str] = None, step: Optional[float] = None):
+        """Snapshot k's DIC-like map of the front face."""
+        return self.client.picture(f"/v1/jobs/{self.id}/snapshots/{int(k)}/dic.svg", field=field, step=step)
+
     def wait(self, timeout: Optional[float] = None, progress: bool = True) -> Dict[str, Any]:
         """Waits with a progress display (granulab.wait) and returns result()."""
         from granulab.progress import wait
