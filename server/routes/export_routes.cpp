@@ -23,10 +23,10 @@ using namespace http;
 
 namespace {
 
-// A ustar archive built in memory with libarchive.
+// A ustar archive built in memory with libarchive, every member dated `mtime` (s since the epoch).
 class TarWriter {
  public:
-  TarWriter() : archive_(archive_write_new(), archive_write_free) {
+  explicit TarWriter(std::time_t mtime) : mtime_(mtime), archive_(archive_write_new(), archive_write_free) {
     archive_write_set_format_ustar(archive_.get());
     archive_write_set_bytes_in_last_block(archive_.get(), 1);  // no padding to 10 KiB
     archive_write_open(archive_.get(), &out_, nullptr, &TarWriter::append, nullptr);
@@ -37,7 +37,7 @@ class TarWriter {
     archive_entry_set_size(entry.get(), la_int64_t(text.size()));
     archive_entry_set_filetype(entry.get(), AE_IFREG);
     archive_entry_set_perm(entry.get(), 0644);
-    archive_entry_set_mtime(entry.get(), std::time(nullptr), 0);
+    archive_entry_set_mtime(entry.get(), mtime_, 0);
     if (archive_write_header(archive_.get(), entry.get()) != ARCHIVE_OK ||
         archive_write_data(archive_.get(), text.data(), text.size()) < 0)
       throw std::runtime_error(std::string("tar: ") + archive_error_string(archive_.get()));
@@ -52,6 +52,7 @@ class TarWriter {
     static_cast<std::string*>(out)->append(static_cast<const char*>(data), size);
     return la_ssize_t(size);
   }
+  std::time_t mtime_;
   std::string out_;
   std::unique_ptr<archive, int (*)(archive*)> archive_;
 };
@@ -138,7 +139,12 @@ void mount_export_routes(Router& router, const RouteContext& c) {
     if (!building.owns_lock())
       return error(res, 503, "busy", "another archive is being built; try again in a few seconds");
     const std::string dir = "job_" + std::to_string(job->id) + "/";
-    TarWriter tar;
+    // Members dated when the job finished (else when it started, or was submitted), not when it is downloaded:
+    // two downloads of a finished job are the same bytes (checksums, caches, a diff of two folders).
+    const std::int64_t dated_ms = job->finished_ms > 0 ? job->finished_ms
+                                  : job->started_ms > 0 ? job->started_ms
+                                                        : job->created_ms;
+    TarWriter tar(std::time_t(dated_ms / 1000));
     const json spec = json::parse(job->spec_json, nullptr, false);
     tar.add(dir + "spec.json", spec.dump(2) + "\n");
     if (!job->summary_json.empty()) tar.add(dir + "summary.json", json::parse(job->summary_json).dump(2) + "\n");

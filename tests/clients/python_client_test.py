@@ -441,6 +441,14 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(tar.extractfile(d + "curve.csv").read().decode(), self.client.curve_csv(job))
             dump = tar.extractfile(f"{d}snapshots/snapshot_1.dump").read().decode()
             self.assertEqual(dump, self.client.snapshot_file(job, 1, "dump"))
+            # Every member dated when the job finished, so that two downloads are the same bytes.
+            finished = self.client.status(job)["finished_ms"] // 1000
+            self.assertEqual({m.mtime for m in tar.getmembers()}, {finished})
+        time.sleep(1.1)  # a download dated by the clock would differ now
+        again = os.path.join(self.tmp, "job_again.tar")
+        self.client.archive(job, again)
+        with open(path, "rb") as a, open(again, "rb") as b:
+            self.assertEqual(a.read(), b.read(), "two downloads of a finished job's archive differ")
         with self.assertRaises(GranulabError) as ctx:
             self.client.archive(987654, os.path.join(self.tmp, "none.tar"))
         self.assertEqual(ctx.exception.status, 404)
