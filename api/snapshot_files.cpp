@@ -68,16 +68,22 @@ nlohmann::json snapshot_json(const GrainSnapshot& s) {
     }
   }
   if (s.scale.size() == n) grains["scale"] = s.scale;
+  // Grain indices as JSON integers (readers that keep JSON's types, pandas among them, get integer columns).
+  const auto indices = [](std::size_t m, auto grain_of) {
+    std::vector<std::uint32_t> v(m);
+    for (std::size_t i = 0; i < m; ++i) v[i] = value(grain_of(i));
+    return v;
+  };
   nlohmann::json interfaces;
-  interfaces["a"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].a)); });
-  interfaces["b"] = column(s.interfaces.size(), [&](std::size_t i) { return double(value(s.interfaces[i].b)); });
+  interfaces["a"] = indices(s.interfaces.size(), [&](std::size_t i) { return s.interfaces[i].a; });
+  interfaces["b"] = indices(s.interfaces.size(), [&](std::size_t i) { return s.interfaces[i].b; });
   interfaces["sliding"] = s.sliding;
   nlohmann::json out = {{"strain", s.strain}, {"step", s.step}, {"grains", grains}, {"interfaces", interfaces}};
   if (!s.contacts.empty()) {
     const std::size_t m = s.contacts.size();
     nlohmann::json c;
-    c["a"] = column(m, [&](std::size_t i) { return double(value(s.contacts[i].a)); });
-    c["b"] = column(m, [&](std::size_t i) { return double(value(s.contacts[i].b)); });
+    c["a"] = indices(m, [&](std::size_t i) { return s.contacts[i].a; });
+    c["b"] = indices(m, [&](std::size_t i) { return s.contacts[i].b; });
     for (int k = 0; k < 3; ++k) {
       const char* axis[] = {"fx", "fy", "fz"};
       c[axis[k]] = column(m, [&](std::size_t i) { return s.contact_force[i][k]; });

@@ -112,7 +112,13 @@ for job in sweep.jobs:
     assert all(abs(a - b / 1e3) <= 1e-9 * max(1.0, abs(b)) for a, b in zip(kpa, raw["deviator"]))
     # A snapshot's grains, one row per grain, integer ids; the server's pictures as SVG.
     snap = job.snapshot_frame(1)
-    assert len(snap) == len(client.snapshot(job, 1)["grains"]["x"]) and str(snap["id"].dtype).startswith("int")
+    raw_snapshot = client.snapshot(job, 1)
+    assert len(snap) == len(raw_snapshot["grains"]["x"]) and str(snap["id"].dtype).startswith("int")
+    # Grain indices are JSON integers in every section (issue 53: they were floats, 2.0).
+    for section in ("interfaces", "contact_network"):
+        pairs = raw_snapshot.get(section, {"a": [], "b": []})
+        assert all(type(v) is int for v in pairs["a"] + pairs["b"]), (section, pairs["a"][:3])
+    assert len(raw_snapshot["interfaces"]["a"]) > 0
     assert "<svg" in job.curve_svg() and "<svg" in job.snapshot_svg(1)
 assert "<svg" in sweep.curves_svg()._repr_svg_()
 print("package ok", json.dumps(seen))
