@@ -61,10 +61,11 @@ std::string snapshot_contacts_vtk(const GrainSnapshot& s) {
   const std::vector<ContactRow> rows = contact_rows(s);
   const std::size_t n = s.id.size(), m = rows.size();
   std::string out = "# vtk DataFile Version 3.0\ngranulab contact network, strain " + std::to_string(s.strain) +
-                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n) + " double\n";
+                    "\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " + std::to_string(n) + " double\n";
   for (const Vec3& x : s.position) out += number(x.x()) + " " + number(x.y()) + " " + number(x.z()) + "\n";
-  out += "LINES " + std::to_string(m) + " " + std::to_string(3 * m) + "\n";
-  for (const ContactRow& r : rows) out += "2 " + std::to_string(r.a) + " " + std::to_string(r.b) + "\n";
+  std::string lines;
+  for (const ContactRow& r : rows) lines += "2 " + std::to_string(r.a) + " " + std::to_string(r.b) + "\n";
+  append_cells(out, m, 3 * m, lines, VtkCell::line);
   out += "CELL_DATA " + std::to_string(m) + "\nVECTORS force double\n";
   for (const ContactRow& r : rows)
     out += number(r.force.x(), "%.6g") + " " + number(r.force.y(), "%.6g") + " " + number(r.force.z(), "%.6g") + "\n";
@@ -157,11 +158,24 @@ std::string snapshot_meshes_vtk(const GrainSnapshot& s) {
   // The paper's snapshots stored before the cell was kept: a = neighbour distance x sqrt2 (FCC).
   const double a = s.grain_size > 0 ? s.grain_size : std::sqrt(2.0) * neighbour_distance(s);
   const Polyhedron solid = Polyhedron::make(s.grain_shape, a > 0 ? a : 1.0);
+  // A cell per face: a triangle or quadrilateral as itself, a larger face (the truncated octahedron's hexagons) as
+  // the fan of triangles from its first corner. Each cell carries its grain's values.
   std::size_t per_grain_points = 0, per_grain_list = 0;
-  for (const Face& f : solid.faces()) per_grain_points += f.vertices.size(), per_grain_list += f.vertices.size() + 1;
-  const std::size_t faces = solid.faces().size();
+  std::vector<std::vector<std::size_t>> grain_cells;  // one grain's cells, its points counted from 0
+  for (const Face& f : solid.faces()) {
+    const std::size_t k = f.vertices.size(), first = per_grain_points;
+    if (k <= 4) {
+      grain_cells.emplace_back();
+      for (std::size_t v = 0; v < k; ++v) grain_cells.back().push_back(first + v);
+    } else {
+      for (std::size_t v = 1; v + 1 < k; ++v) grain_cells.push_back({first, first + v, first + v + 1});
+    }
+    per_grain_points += k;
+  }
+  for (const auto& c : grain_cells) per_grain_list += c.size() + 1;
+  const std::size_t cells_per_grain = grain_cells.size();  // each with its grain's values
   std::string out = "# vtk DataFile Version 3.0\ngranulab grain shapes, strain " + std::to_string(s.strain) +
-                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n * per_grain_points) + " double\n";
+                    "\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " + std::to_string(n * per_grain_points) + " double\n";
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Matrix3d R = s.orientation[i].normalized().toRotationMatrix();
     const double scale = i < s.scale.size() ? s.scale[i] : 1.0;
@@ -171,32 +185,42 @@ std::string snapshot_meshes_vtk(const GrainSnapshot& s) {
         out += number(x.x()) + " " + number(x.y()) + " " + number(x.z()) + "\n";
       }
   }
-  out += "POLYGONS " + std::to_string(n * faces) + " " + std::to_string(n * per_grain_list) + "\n";
-  for (std::size_t i = 0, first = 0; i < n; ++i)
-    for (const Face& f : solid.faces()) {
-      out += std::to_string(f.vertices.size());
-      for (std::size_t k = 0; k < f.vertices.size(); ++k) out += " " + std::to_string(first + k);
-      out += "\n";
-      first += f.vertices.size();
+  std::string cells;
+  std::vector<VtkCell> types;
+  types.reserve(n * cells_per_grain);
+  for (std::size_t i = 0; i < n; ++i)
+    for (const auto& c : grain_cells) {
+      cells += std::to_string(c.size());
+      for (std::size_t p : c) cells += " " + std::to_string(p + i * per_grain_points);
+      cells += "\n";
+      types.push_back(c.size() == 3 ? VtkCell::triangle : VtkCell::quad);
     }
+  append_cells(out, n * per_grain_list, cells, types);
   // Each face carries its grain's values (ParaView colours the grain by them): `id` the active scalars, the
   // others in a FIELD block, which every legacy reader reads (api/legacy_vtk.h).
-  out += "CELL_DATA " + std::to_string(n * faces) + "\nSCALARS id int 1\nLOOKUP_TABLE default\n";
+  out += "CELL_DATA " + std::to_string(n * cells_per_grain) + "\nSCALARS id int 1\nLOOKUP_TABLE default\n";
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t f = 0; f < faces; ++f) out += std::to_string(value(s.id[i])) + "\n";
+    for (std::size_t f = 0; f < cells_per_grain; ++f) out += std::to_string(value(s.id[i])) + "\n";
   VtkFieldBlock fields;
   const auto scalars = [&](const char* name, const std::vector<double>& v) {
     if (v.size() != n) return;  // a field the stored snapshot predates
     std::string text;
     for (std::size_t i = 0; i < n; ++i) {
       const std::string line = number(v[i], "%.6g") + "\n";
-      for (std::size_t f = 0; f < faces; ++f) text += line;
+      for (std::size_t f = 0; f < cells_per_grain; ++f) text += line;
     }
-    fields.add(name, 1, n * faces, std::move(text));
+    fields.add(name, 1, n * cells_per_grain, std::move(text));
   };
-  std::vector<double> displacement;
-  for (const Vec3& d : s.displacement) displacement.push_back(d.norm());
-  scalars("displacement", displacement);
+  // `displacement` is the grain's displacement vector (m), as in the grain file and the JSON: one meaning per name.
+  if (s.displacement.size() == n) {
+    std::string text;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3& d = s.displacement[i];
+      const std::string line = number(d.x(), "%.6g") + " " + number(d.y(), "%.6g") + " " + number(d.z(), "%.6g") + "\n";
+      for (std::size_t f = 0; f < cells_per_grain; ++f) text += line;
+    }
+    fields.add("displacement", 3, n * cells_per_grain, std::move(text));
+  }
   scalars("penetration_ratio", s.penetration_ratio);
   scalars("gamma_max", s.gamma_max);
   scalars("equivalent_strain", s.equivalent_strain);

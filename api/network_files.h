@@ -1,6 +1,6 @@
 // A snapshot's contact network and grain shapes as the files OVITO and ParaView users expect (docs/api.md):
 // force chains as VTK lines between touching grains' centres and as a LAMMPS local dump (one entry per grain pair in
-// contact), and every grain as its polyhedron, posed, in a VTK polydata coloured by any per-grain field.
+// contact), and every grain as its polyhedron, posed, in a legacy VTK unstructured grid coloured by any per-grain field.
 #pragma once
 
 #include <string>
@@ -28,7 +28,7 @@ constexpr std::size_t kMaxDumpSpheres = 1000000;
 /// predates that (no N_e kept) or would have more than kMaxDumpSpheres.
 std::string snapshot_spheres_dump(const GrainSnapshot& s);
 /// Every grain as its polyhedron (the snapshot's grain shape and cubic cell, times the grain's scale), placed and
-/// turned as the grain is: POLYDATA polygons, their cell data the grain's id (the active scalars) and fields (a FIELD
+/// turned as the grain is: polygon cells of an UNSTRUCTURED_GRID, their cell data the grain's id (the active scalars) and fields (a FIELD
 /// block).
 std::string snapshot_meshes_vtk(const GrainSnapshot& s);
 

@@ -257,10 +257,11 @@ std::string snapshot_lammps_dump(const GrainSnapshot& s) {
 std::string snapshot_grains_vtk(const GrainSnapshot& s) {
   const std::size_t n = s.id.size();
   std::string out = "# vtk DataFile Version 3.0\ngranulab grains, strain " + std::to_string(s.strain) +
-                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n) + " double\n";
+                    "\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " + std::to_string(n) + " double\n";
   for (const Vec3& x : s.position) append(out, "%.9g %.9g %.9g\n", x.x(), x.y(), x.z());
-  out += "VERTICES " + std::to_string(n) + " " + std::to_string(2 * n) + "\n";
-  for (std::size_t i = 0; i < n; ++i) out += "1 " + std::to_string(i) + "\n";
+  std::string vertices;
+  for (std::size_t i = 0; i < n; ++i) vertices += "1 " + std::to_string(i) + "\n";
+  append_cells(out, n, 2 * n, vertices, VtkCell::vertex);
   out += "POINT_DATA " + std::to_string(n) + "\nSCALARS id int 1\nLOOKUP_TABLE default\n";
   for (GrainId id : s.id) out += std::to_string(value(id)) + "\n";
   out += "VECTORS displacement double\n";
@@ -298,11 +299,12 @@ std::string snapshot_interfaces_vtk(const GrainSnapshot& s) {
   for (std::size_t i = 0; i < s.id.size(); ++i) index[value(s.id[i])] = i;
   const std::size_t n = s.id.size(), m = s.interfaces.size();
   std::string out = "# vtk DataFile Version 3.0\ngranulab interfaces, strain " + std::to_string(s.strain) +
-                    "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n) + " double\n";
+                    "\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS " + std::to_string(n) + " double\n";
   for (const Vec3& x : s.position) append(out, "%.9g %.9g %.9g\n", x.x(), x.y(), x.z());
-  out += "LINES " + std::to_string(m) + " " + std::to_string(3 * m) + "\n";
+  std::string lines;
   for (const auto& [a, b] : s.interfaces)
-    out += "2 " + std::to_string(index[value(a)]) + " " + std::to_string(index[value(b)]) + "\n";
+    lines += "2 " + std::to_string(index[value(a)]) + " " + std::to_string(index[value(b)]) + "\n";
+  append_cells(out, m, 3 * m, lines, VtkCell::line);
   out += "CELL_DATA " + std::to_string(m) + "\nSCALARS sliding double 1\nLOOKUP_TABLE default\n";
   char buf[40];
   for (double x : s.sliding) std::snprintf(buf, sizeof buf, "%.6g\n", x), out += buf;

@@ -1,6 +1,6 @@
 // Grain snapshots as files: a compact JSON document (per-grain and per-interface arrays, what the
 // server stores), a LAMMPS text dump (OVITO reads its columns, quaternion included), and legacy VTK
-// polydata for ParaView: grains as points, interfaces as lines carrying their sliding distance.
+// unstructured grids (ParaView, VTK, meshio): grains as vertices, interfaces as lines carrying their sliding distance.
 #pragma once
 
 #include <string>

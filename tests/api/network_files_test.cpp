@@ -12,6 +12,7 @@
 
 #include "api/network_files.h"
 #include "api/snapshot_files.h"
+#include "engine/geometry/polyhedron.h"
 
 namespace granulab::api {
 namespace {
@@ -42,7 +43,8 @@ GrainSnapshot three_cubes() {
 TEST(NetworkFiles, AContactsForceSplitsAlongAndAcrossItsCentreLine) {
   const GrainSnapshot s = three_cubes();
   const std::string vtk = snapshot_contacts_vtk(s);
-  EXPECT_NE(vtk.find("LINES 1 3\n2 0 1\n"), std::string::npos) << vtk;
+  EXPECT_NE(vtk.find("DATASET UNSTRUCTURED_GRID\n"), std::string::npos) << vtk;
+  EXPECT_NE(vtk.find("CELLS 1 3\n2 0 1\nCELL_TYPES 1\n3\n"), std::string::npos) << vtk;  // one VTK_LINE
   EXPECT_NE(vtk.find("VECTORS force double\n-3 4 0\n"), std::string::npos);
   EXPECT_NE(vtk.find("SCALARS force_normal double 1\nLOOKUP_TABLE default\n3\n"), std::string::npos);
   // Beyond the first scalars, a FIELD block: what VTK's legacy readers read without being told to read all.
@@ -64,7 +66,8 @@ TEST(NetworkFiles, EachGrainIsItsPolyhedronPosedAndScaled) {
   const std::string vtk = snapshot_meshes_vtk(s);
   // A cube: 6 faces of 4 vertices per grain.
   EXPECT_NE(vtk.find("POINTS 72 double\n"), std::string::npos);
-  EXPECT_NE(vtk.find("POLYGONS 18 90\n"), std::string::npos);
+  EXPECT_NE(vtk.find("CELLS 18 90\n"), std::string::npos);
+  EXPECT_NE(vtk.find("CELL_TYPES 18\n9\n"), std::string::npos);  // VTK_QUAD
   std::istringstream in(vtk.substr(vtk.find("POINTS 72 double\n") + 17));
   for (int g = 0; g < 3; ++g)
     for (int v = 0; v < 24; ++v) {
@@ -81,6 +84,57 @@ TEST(NetworkFiles, EachGrainIsItsPolyhedronPosedAndScaled) {
   std::vector<double> v(18);
   for (double& x : v) values >> x;
   for (int f = 0; f < 6; ++f) EXPECT_DOUBLE_EQ(v[12 + f], 0.2);
+}
+
+// A truncated octahedron (BCC's grain): its 6 squares as quads, each of its 8 hexagons as 4 triangles (meshio drops
+// the cell data of a file with VTK_POLYGON cells), which tile the hexagon: their areas add up to the grain's surface.
+TEST(NetworkFiles, AHexagonalFaceIsWrittenAsTrianglesThatTileIt) {
+  GrainSnapshot s = three_cubes();
+  s.grain_shape = Shape::truncated_octahedron;
+  s.scale = {1.0, 1.0, 1.0};
+  const std::string vtk = snapshot_meshes_vtk(s);
+  const std::size_t per_grain = 6 + 8 * 4;
+  EXPECT_NE(vtk.find("CELLS " + std::to_string(3 * per_grain) + " " + std::to_string(3 * (6 * 5 + 32 * 4)) + "\n"),
+            std::string::npos);
+  EXPECT_NE(vtk.find("CELL_DATA " + std::to_string(3 * per_grain) + "\n"), std::string::npos);
+  const std::size_t points = 3 * (6 * 4 + 8 * 6);
+  std::istringstream in(vtk.substr(vtk.find("POINTS " + std::to_string(points) + " double\n")));
+  std::string word;
+  in >> word >> word >> word;
+  std::vector<Vec3> p(points);
+  for (Vec3& x : p) in >> x.x() >> x.y() >> x.z();
+  std::size_t count = 0, size = 0;
+  in >> word >> count >> size;
+  ASSERT_EQ(word, "CELLS");
+  double area = 0;  // of the first grain
+  int triangles = 0, quads = 0;
+  for (std::size_t c = 0; c < count; ++c) {
+    std::size_t k = 0;
+    in >> k;
+    std::vector<std::size_t> v(k);
+    for (std::size_t& i : v) in >> i;
+    ASSERT_TRUE(k == 3 || k == 4);
+    (k == 3 ? triangles : quads) += 1;
+    if (c >= per_grain) continue;
+    for (std::size_t j = 1; j + 1 < k; ++j) area += 0.5 * (p[v[j]] - p[v[0]]).cross(p[v[j + 1]] - p[v[0]]).norm();
+  }
+  EXPECT_EQ(triangles, 3 * 32);
+  EXPECT_EQ(quads, 3 * 6);
+  in >> word >> count;
+  ASSERT_EQ(word, "CELL_TYPES");
+  std::size_t type = 0, fives = 0, nines = 0;
+  for (std::size_t c = 0; c < count; ++c) in >> type, fives += type == 5, nines += type == 9;
+  EXPECT_EQ(fives, 3u * 32u);
+  EXPECT_EQ(nines, 3u * 6u);
+  // The polyhedron's own faces' areas (Newell's formula over each face's corners).
+  const Polyhedron solid = Polyhedron::make(Shape::truncated_octahedron, kA);
+  double surface = 0;
+  for (const Face& f : solid.faces()) {
+    Vec3 twice = Vec3::Zero();
+    for (std::size_t j = 0; j < f.vertices.size(); ++j) twice += f.vertices[j].cross(f.vertices[(j + 1) % f.vertices.size()]);
+    surface += 0.5 * twice.norm();
+  }
+  EXPECT_NEAR(area, surface, 1e-9 * surface);
 }
 
 TEST(NetworkFiles, TheSphereDumpHasEverySphereOfEveryGrainWithItsGrainsId) {

@@ -184,7 +184,7 @@ TEST(SnapshotFormats, EveryVtkArrayAfterTheFirstScalarsAndVectorsIsInAFieldBlock
     EXPECT_NE(grains.find("\n" + std::string(array) + std::to_string(n) + " double\n"), std::string::npos) << array;
   const std::string meshes = snapshot_meshes_vtk(s);
   EXPECT_EQ(count(meshes, "\nSCALARS "), 1u);
-  EXPECT_NE(meshes.find("\nFIELD grain_fields 6\ndisplacement 1 " + std::to_string(6 * n) + " double\n"),
+  EXPECT_NE(meshes.find("\nFIELD grain_fields 6\ndisplacement 3 " + std::to_string(6 * n) + " double\n"),
             std::string::npos);
   const std::string contacts = snapshot_contacts_vtk(s);
   EXPECT_EQ(count(contacts, "\nSCALARS "), 1u);
@@ -193,7 +193,7 @@ TEST(SnapshotFormats, EveryVtkArrayAfterTheFirstScalarsAndVectorsIsInAFieldBlock
             std::string::npos);
   // A snapshot stored before the network was kept: no lines, no arrays, nothing a reader trips on.
   s.contacts.clear(), s.contact_force.clear();
-  EXPECT_NE(snapshot_contacts_vtk(s).find("LINES 0 0\nCELL_DATA 0\n"), std::string::npos);
+  EXPECT_NE(snapshot_contacts_vtk(s).find("CELLS 0 0\nCELL_TYPES 0\nCELL_DATA 0\n"), std::string::npos);
 }
 
 }  // namespace

@@ -293,7 +293,7 @@ TEST_F(CliTest, CrystalRunWritesCurveSummaryAndSnapshotFiles) {
     EXPECT_NE(dump.find("ITEM: NUMBER OF ATOMS\n16\n"), std::string::npos);
     EXPECT_NE(dump.find("quatw quati quatj quatk"), std::string::npos);
     EXPECT_EQ(slurp(out / "snapshots" / (stem + "_grains.vtk")).rfind("# vtk DataFile", 0), 0u);
-    EXPECT_NE(slurp(out / "snapshots" / (stem + "_interfaces.vtk")).find("LINES"), std::string::npos);
+    EXPECT_NE(slurp(out / "snapshots" / (stem + "_interfaces.vtk")).find("CELL_TYPES"), std::string::npos);
   }
 }
 

@@ -11,7 +11,9 @@ on a tiny crystal (16 grains, two snapshots, well under a second), then
   positions, ids from 1 (the grain's id + 1, as LAMMPS counts); the contact dump's grain ids the same;
 - the DIC CSV through VTK's CSV reader (ParaView's): every column numeric, "nan" read as not a number.
 
-Needs Debian's python3-vtk9 and python3-ase (`make deps` installs them); a test whose module is missing is skipped
+- every VTK file through meshio (Debian's python3-meshio): cells and arrays as the JSON has them.
+
+Needs Debian's python3-vtk9, python3-ase and python3-meshio (`make deps` installs them); a test whose module is missing is skipped
 and the program exits 77 (tests/skip_aware.py): ctest shows it as not run.
 Run from the repository root:  /usr/bin/python3 tests/clients/snapshot_readers_test.py
 (the CLI from $GRANULAB, set by CTest, or build/granulab).
@@ -50,7 +52,13 @@ try:
 except ImportError:
     ase = None
 
+try:
+    import meshio
+except ImportError:
+    meshio = None
+
 need_vtk = unittest.skipIf(vtkDataSetReader is None, "no VTK for Python (Debian's python3-vtk9)")
+need_meshio = unittest.skipIf(meshio is None, "no meshio (Debian's python3-meshio)")
 need_ase = unittest.skipIf(ase is None, "no ASE (Debian's python3-ase)")
 
 
@@ -178,8 +186,9 @@ class SnapshotReadersTest(unittest.TestCase):
                 self.assertEqual([int(v[0]) for v in arrays[("cell", "id")]], per_face(g["id"]))
                 for name in ("penetration_ratio", "gamma_max", "equivalent_strain", "d2min", "misorientation"):
                     self.assert_close([v[0] for v in arrays[("cell", name)]], per_face(g[name]), 6, name)
-                norms = [math.sqrt(x * x + y * y + z * z) for x, y, z in zip(g["dx"], g["dy"], g["dz"])]
-                self.assert_close([v[0] for v in arrays[("cell", "displacement")]], per_face(norms), 5, "|u|")
+                # The displacement vector, as in the grain file (one meaning per name).
+                self.assert_close(arrays[("cell", "displacement")], per_face(list(zip(g["dx"], g["dy"], g["dz"]))),
+                                  6, "u")
 
     @need_vtk
     def test_vtk_reads_every_array_of_the_dic_map(self):
@@ -249,6 +258,49 @@ class SnapshotReadersTest(unittest.TestCase):
             self.assertEqual([int(r["id"]) for r in rows], [i + 1 for i in g["id"]])
             for name in ("dx", "gamma_max", "d2min", "misorientation"):
                 self.assert_close([r[name] for r in rows], g[name], 6, name)
+
+    @need_meshio
+    def test_meshio_reads_every_vtk_file_with_its_cells_and_arrays(self):
+        """meshio refused the POLYDATA files; the unstructured grids read with every array, FIELD blocks included."""
+        def data(mesh, kind):
+            # meshio keeps point data as arrays, cell data as a list of arrays per cell block (one block here).
+            d = mesh.point_data if kind == "point" else {n: v[0] for n, v in mesh.cell_data.items()}
+            return {n: [tuple(x) if getattr(x, "shape", ()) else (float(x),) for x in v] for n, v in d.items()}
+
+        for k in range(SNAPSHOTS):
+            g = snapshot(k)["grains"]
+            m = meshio.read(path(k, "_grains.vtk"))
+            self.assertEqual(len(m.points), GRAINS)
+            self.assertEqual([(b.type, len(b.data)) for b in m.cells], [("vertex", GRAINS)])
+            arrays = data(m, "point")
+            self.assertEqual([int(v[0]) for v in arrays["id"]], g["id"])
+            self.assert_close(arrays["displacement"], list(zip(g["dx"], g["dy"], g["dz"])), 6, "u")
+            for name in ("penetration_ratio", "gamma_max", "d2min", "misorientation"):
+                self.assert_close([v[0] for v in arrays[name]], g[name], 6, name)
+            self.assert_close(arrays["quaternion_wxyz"], list(zip(g["qw"], g["qx"], g["qy"], g["qz"])), 9, "q")
+
+            f = snapshot(k)["interfaces"]
+            m = meshio.read(path(k, "_interfaces.vtk"))
+            self.assertEqual([(b.type, len(b.data)) for b in m.cells], [("line", len(f["a"]))])
+            self.assert_close([v[0] for v in data(m, "cell")["sliding"]], f["sliding"], 6, "sliding")
+
+            c = snapshot(k)["contact_network"]
+            m = meshio.read(path(k, "_contacts.vtk"))
+            self.assertEqual([(b.type, len(b.data)) for b in m.cells], [("line", len(c["a"]))])
+            self.assert_close(data(m, "cell")["force"], list(zip(c["fx"], c["fy"], c["fz"])), 6, "force")
+
+            m = meshio.read(path(k, "_meshes.vtk"))
+            self.assertEqual(sum(len(b.data) for b in m.cells), GRAINS * RD_FACES)
+            self.assertTrue(all(b.type.startswith("polygon") or b.type == "quad" for b in m.cells), m.cells)
+            arrays = {n: [tuple(x) if getattr(x, "shape", ()) else (float(x),) for b in v for x in b]
+                      for n, v in m.cell_data.items()}
+            per_face = lambda values: [v for v in values for _ in range(RD_FACES)]  # noqa: E731
+            self.assertEqual([int(v[0]) for v in arrays["id"]], per_face(g["id"]))
+            self.assert_close(arrays["displacement"], per_face(list(zip(g["dx"], g["dy"], g["dz"]))), 6, "u")
+
+            m = meshio.read(path(k, "_dic.vtk"))
+            self.assertGreater(len(m.points), 0)
+            self.assertIn("measured", m.point_data)
 
     def test_the_contact_dump_names_the_grain_dumps_ids(self):
         for k in range(SNAPSHOTS):
