@@ -522,7 +522,9 @@ class ResultsEndToEndTest(unittest.TestCase):
             two, a, b = map(int, line.split())
             self.assertEqual(two, 2)
             self.assertTrue(0 <= a < GRAINS and 0 <= b < GRAINS and a != b, line)
-        self.assertEqual(lines[at + 1 + interfaces], f"CELL_DATA {interfaces}")
+        self.assertEqual(lines[at + 1 + interfaces], f"CELL_TYPES {interfaces}")
+        self.assertEqual(set(lines[at + 2 + interfaces:at + 2 + 2 * interfaces]), {"3"})  # VTK_LINE
+        self.assertEqual(lines[at + 2 + 2 * interfaces], f"CELL_DATA {interfaces}")
 
     def test_snapshot_export_rejects_an_unknown_format(self):
         job = self.jobs[1]
