@@ -121,6 +121,39 @@ for job in sweep.jobs:
     assert len(raw_snapshot["interfaces"]["a"]) > 0
     assert "<svg" in job.curve_svg() and "<svg" in job.snapshot_svg(1)
 assert "<svg" in sweep.curves_svg()._repr_svg_()
+
+# The snapshots as a GSD trajectory (python3-gsd): a frame per snapshot, a particle per grain at the JSON's pose, and
+# the shape a union of spheres that, placed by a grain's pose, lands on that grain's spheres in the sphere dump.
+import gsd.hoomd
+job = sweep.jobs[0]
+path = job.write_gsd("crystal.gsd")
+snaps = job.snapshots()
+with gsd.hoomd.open(path, "rb") as trajectory:
+    assert len(trajectory) == len(snaps), (len(trajectory), len(snaps))
+    for frame, info in zip(trajectory, snaps):
+        g = client.snapshot(job, info["index"])["grains"]
+        n = len(g["x"])
+        assert frame.particles.N == n and frame.configuration.step == client.snapshot(job, info["index"])["step"]
+        for i in range(n):
+            # GSD's HOOMD schema keeps positions and orientations in single precision (2^-24 relative).
+            assert all(abs(a - b) < 1e-9 for a, b in zip(frame.particles.position[i], (g["x"][i], g["y"][i], g["z"][i])))
+            assert all(abs(a - b) < 1e-7 for a, b in zip(frame.particles.orientation[i],
+                                                          (g["qw"][i], g["qx"][i], g["qy"][i], g["qz"][i])))
+        shape = frame.particles.type_shapes[0]
+        assert shape["type"] == "SphereUnion" and len(shape["centers"]) == len(shape["diameters"]) > 8, shape["type"]
+    # The last grain of the last snapshot: its sphere union, turned and placed, is its spheres in the sphere dump.
+    from granulab.gsd_file import _rotate
+    dump = client.snapshot_file(job, snaps[-1]["index"], "dump_spheres").splitlines()
+    at = next(i for i, line in enumerate(dump) if line.startswith("ITEM: ATOMS"))
+    names = dump[at].split()[2:]
+    rows = [dict(zip(names, map(float, line.split()))) for line in dump[at + 1:]]
+    mol = g["id"][-1] + 1
+    want = sorted((r["x"], r["y"], r["z"]) for r in rows if int(r["mol"]) == mol)
+    q = tuple(frame.particles.orientation[-1])
+    x = frame.particles.position[-1]
+    got = sorted(tuple(x[k] + v[k] for k in range(3)) for v in (_rotate(q, tuple(c)) for c in shape["centers"]))
+    assert len(got) == len(want), (len(got), len(want))
+    assert all(abs(a - b) < 1e-8 for p, w in zip(got, want) for a, b in zip(p, w)), (got[:2], want[:2])
 print("package ok", json.dumps(seen))
 '''
 

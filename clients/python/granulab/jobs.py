@@ -105,6 +105,13 @@ class Job(concurrent.futures.Future):
 
         return to_frame(snapshot_columns(self.client.snapshot(self.id, k), section))
 
+    def write_gsd(self, path: str) -> str:
+        """The snapshots as a GSD trajectory with each grain's sphere union as its shape (granulab.gsd_file; needs
+        gsd): OVITO draws the grains."""
+        from granulab.gsd_file import write_gsd
+
+        return write_gsd(self, path)
+
     def curve_svg(self, units: str = "natural", y: Optional[str] = None):
         """The server's picture of the curve (shown inline in a notebook)."""
         return self.client.picture(f"/v1/jobs/{self.id}/curve.svg", units=units, y=y)
