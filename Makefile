@@ -8,7 +8,8 @@ JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES := cmake make g++ pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev \
                    libsqlite3-dev libspdlog-dev libgtest-dev libgmock-dev \
                    libarchive-dev libssl-dev chromium python3-jsonschema python3-vtk9 python3-ase \
-                   python3-venv python3-pip python3-pandas python3-meshio python3-gsd
+                   python3-venv python3-pip python3-pandas python3-meshio python3-gsd \
+                   python3-nbclient python3-ipykernel
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 .PHONY: deps configure build test run bench clean docker-check

@@ -12,17 +12,12 @@ Exits 77 (a skip, said to ctest) when this Python has no venv or pip.
 
 import os
 import shutil
-import signal
-import socket
 import subprocess
 import sys
 import tempfile
-import time
-import urllib.request
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-DAEMON = os.environ.get("GRANULABD") or os.path.join(ROOT, "build", "granulabd")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import package_env  # noqa: E402
 
 SCRIPT = r'''
 import concurrent.futures, json, sys, threading, time
@@ -158,55 +153,25 @@ print("package ok", json.dumps(seen))
 '''
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def main():
-    python = "/usr/bin/python3" if os.access("/usr/bin/python3", os.X_OK) else sys.executable
-    probe = subprocess.run([python, "-c", "import venv, ensurepip"], capture_output=True)
-    if probe.returncode != 0:
-        print("SKIPPED: %s has no venv/ensurepip (Debian: python3-venv)" % python)
-        return 77
+    python = package_env.system_python()
+    missing = package_env.venv_missing(python)
+    if missing:
+        print("SKIPPED:", missing)
+        return package_env.SKIP
     tmp = tempfile.mkdtemp(prefix="granulab_pkg_")
     daemon = None
     try:
-        env_dir = os.path.join(tmp, "env")
-        # Debian's python3-pandas (the optional extra) seen through the system's site-packages.
-        subprocess.run([python, "-m", "venv", "--system-site-packages", env_dir], check=True)
-        pip = os.path.join(env_dir, "bin", "pip")
-        env = dict(os.environ, PIP_NO_INDEX="1", PIP_DISABLE_PIP_VERSION_CHECK="1")
-        # A copy of the package's folder: pip builds in place, and the checkout stays as it is.
-        src = os.path.join(tmp, "src")
-        shutil.copytree(os.path.join(ROOT, "clients", "python"), src,
-                        ignore=shutil.ignore_patterns("__pycache__"))
-        r = subprocess.run([pip, "install", src], env=env, capture_output=True, text=True)
-        if r.returncode != 0:
-            print(r.stdout[-3000:], r.stderr[-3000:])
-            print("FAIL: pip install ./clients/python with no index")
+        try:
+            env_python = package_env.install_package(python, tmp)
+            daemon = package_env.Daemon(tmp, workers=2)
+        except RuntimeError as e:
+            print("FAIL:", e)
             return 1
-        port = free_port()
-        log = open(os.path.join(tmp, "daemon.log"), "w+")
-        daemon = subprocess.Popen([DAEMON, "--port", str(port), "--db", os.path.join(tmp, "t.db"), "--workers", "2"],
-                                  stdout=log, stderr=subprocess.STDOUT,
-                                  env=dict(os.environ, OMP_WAIT_POLICY="passive"))
-        deadline = time.monotonic() + 20
-        while True:
-            try:
-                with urllib.request.urlopen("http://127.0.0.1:%d/v1/health" % port, timeout=2):
-                    break
-            except OSError:
-                if daemon.poll() is not None or time.monotonic() > deadline:
-                    log.seek(0)
-                    print("FAIL: granulabd did not start:", log.read()[-3000:])
-                    return 1
-                time.sleep(0.1)
         work = os.path.join(tmp, "work")
         os.mkdir(work)
-        r = subprocess.run([os.path.join(env_dir, "bin", "python"), "-c", SCRIPT, "http://127.0.0.1:%d" % port],
-                           cwd=work, capture_output=True, text=True, timeout=240)
+        r = subprocess.run([env_python, "-c", SCRIPT, daemon.url], cwd=work, capture_output=True, text=True,
+                           timeout=240)
         print(r.stdout)
         print(r.stderr[-4000:])
         if r.returncode != 0 or "package ok" not in r.stdout:
@@ -217,13 +182,8 @@ def main():
             return 1
         return 0
     finally:
-        if daemon is not None and daemon.poll() is None:
-            daemon.send_signal(signal.SIGTERM)
-            try:
-                daemon.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                daemon.kill()
-                daemon.wait()
+        if daemon is not None:
+            daemon.stop()
         shutil.rmtree(tmp, ignore_errors=True)
 
 
