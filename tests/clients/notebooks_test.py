@@ -10,10 +10,8 @@ import glob
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import package_env  # noqa: E402
@@ -48,36 +46,27 @@ def main():
         if stored:
             print("FAIL: %s is stored with outputs (clear them)" % path)
             return 1
-    tmp = tempfile.mkdtemp(prefix="granulab_nb_")
-    daemon = None
-    try:
-        try:
-            env_python = package_env.install_package(python, tmp)
-            daemon = package_env.Daemon(tmp, workers=2)
-        except RuntimeError as e:
-            print("FAIL:", e)
-            return 1
-        # A kernel of the environment (its python imports the installed package), found through its own prefix.
-        subprocess.run([env_python, "-m", "ipykernel", "install", "--sys-prefix", "--name", "granulab-test"],
-                       check=True, capture_output=True)
-        env = dict(os.environ, GRANULAB_SERVER=daemon.url, GRANULAB_NOTEBOOK_QUICK="1")
-        env.pop("PYTHONPATH", None)
-        failed = 0
-        for path in NOTEBOOKS:
-            work = os.path.join(tmp, os.path.basename(path) + ".run")
-            os.mkdir(work)
-            r = subprocess.run([env_python, "-c", RUN, path], cwd=work, env=env, capture_output=True, text=True,
-                               timeout=900)
-            print(os.path.basename(path) + ":", r.stdout.strip())
-            if r.returncode != 0:
-                print(re.sub(r"\x1b\[[0-9;]*m", "", r.stderr)[-5000:])  # without the traceback's colours
-                print("FAIL:", path)
-                failed += 1
-        return 1 if failed else 0
-    finally:
-        if daemon is not None:
-            daemon.stop()
-        shutil.rmtree(tmp, ignore_errors=True)
+    return package_env.run_with_package("granulab_nb_", execute)
+
+
+def execute(tmp, env_python, daemon):
+    # A kernel of the environment (its python imports the installed package), found through its own prefix.
+    subprocess.run([env_python, "-m", "ipykernel", "install", "--sys-prefix", "--name", "granulab-test"], check=True,
+                   capture_output=True)
+    env = dict(os.environ, GRANULAB_SERVER=daemon.url, GRANULAB_NOTEBOOK_QUICK="1")
+    env.pop("PYTHONPATH", None)
+    failed = 0
+    for path in NOTEBOOKS:
+        work = os.path.join(tmp, os.path.basename(path) + ".run")
+        os.mkdir(work)
+        r = subprocess.run([env_python, "-c", RUN, path], cwd=work, env=env, capture_output=True, text=True,
+                           timeout=900)
+        print(os.path.basename(path) + ":", r.stdout.strip())
+        if r.returncode != 0:
+            print(re.sub(r"\x1b\[[0-9;]*m", "", r.stderr)[-5000:])  # without the traceback's colours
+            print("FAIL:", path)
+            failed += 1
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

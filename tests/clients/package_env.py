@@ -7,6 +7,7 @@ import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
 
@@ -79,3 +80,22 @@ class Daemon:
                 self.proc.kill()
                 self.proc.wait()
         self.log.close()
+
+
+def run_with_package(prefix, body):
+    """body(tmp, env_python, daemon) -> exit code, run with the package installed in a fresh environment and a daemon
+    up (both in a new temporary folder, removed after); 1 if either cannot be had."""
+    tmp = tempfile.mkdtemp(prefix=prefix)
+    daemon = None
+    try:
+        try:
+            env_python = install_package(system_python(), tmp)
+            daemon = Daemon(tmp, workers=2)
+        except RuntimeError as e:
+            print("FAIL:", e)
+            return 1
+        return body(tmp, env_python, daemon)
+    finally:
+        if daemon is not None:
+            daemon.stop()
+        shutil.rmtree(tmp, ignore_errors=True)

@@ -11,10 +11,8 @@ Exits 77 (a skip, said to ctest) when this Python has no venv or pip.
 """
 
 import os
-import shutil
 import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import package_env  # noqa: E402
@@ -154,37 +152,26 @@ print("package ok", json.dumps(seen))
 
 
 def main():
-    python = package_env.system_python()
-    missing = package_env.venv_missing(python)
+    missing = package_env.venv_missing(package_env.system_python())
     if missing:
         print("SKIPPED:", missing)
         return package_env.SKIP
-    tmp = tempfile.mkdtemp(prefix="granulab_pkg_")
-    daemon = None
-    try:
-        try:
-            env_python = package_env.install_package(python, tmp)
-            daemon = package_env.Daemon(tmp, workers=2)
-        except RuntimeError as e:
-            print("FAIL:", e)
-            return 1
-        work = os.path.join(tmp, "work")
-        os.mkdir(work)
-        r = subprocess.run([env_python, "-c", SCRIPT, daemon.url], cwd=work, capture_output=True, text=True,
-                           timeout=240)
-        print(r.stdout)
-        print(r.stderr[-4000:])
-        if r.returncode != 0 or "package ok" not in r.stdout:
-            print("FAIL: the package's script")
-            return 1
-        if "2/2 jobs done, 100.0 %" not in r.stderr and "2.00/2 jobs" not in r.stderr:  # the line, or tqdm's
-            print("FAIL: granulab.wait showed no progress line")
-            return 1
-        return 0
-    finally:
-        if daemon is not None:
-            daemon.stop()
-        shutil.rmtree(tmp, ignore_errors=True)
+    return package_env.run_with_package("granulab_pkg_", drive)
+
+
+def drive(tmp, env_python, daemon):
+    work = os.path.join(tmp, "work")
+    os.mkdir(work)
+    r = subprocess.run([env_python, "-c", SCRIPT, daemon.url], cwd=work, capture_output=True, text=True, timeout=240)
+    print(r.stdout)
+    print(r.stderr[-4000:])
+    if r.returncode != 0 or "package ok" not in r.stdout:
+        print("FAIL: the package's script")
+        return 1
+    if "2/2 jobs done, 100.0 %" not in r.stderr and "2.00/2 jobs" not in r.stderr:  # the line, or tqdm's
+        print("FAIL: granulab.wait showed no progress line")
+        return 1
+    return 0
 
 
 if __name__ == "__main__":
