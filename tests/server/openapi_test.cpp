@@ -78,6 +78,24 @@ TEST(OpenApi, EveryRegisteredRouteIsDocumentedWithItsQueryParametersAndNoOtherRo
     EXPECT_TRUE(registered.count(route)) << route << " is documented but not served";
 }
 
+// Client generators name a method after its operation's operationId (openapi-typescript, openapi-generator): every
+// operation has one, unique in the document, and usable as an identifier.
+TEST(OpenApi, EveryOperationHasAUniqueOperationId) {
+  const nlohmann::json doc = openapi_document();
+  std::set<std::string> seen;
+  std::size_t operations = 0;
+  for (const auto& [path, item] : doc["paths"].items())
+    for (const auto& [method, op] : item.items()) {
+      if (method != "get" && method != "post" && method != "put" && method != "delete" && method != "patch") continue;
+      ++operations;
+      ASSERT_TRUE(op.contains("operationId") && op["operationId"].is_string()) << method << " " << path;
+      const std::string id = op["operationId"];
+      EXPECT_TRUE(std::regex_match(id, std::regex("[a-z][A-Za-z0-9]*"))) << id;
+      EXPECT_TRUE(seen.insert(id).second) << id << " names two operations";
+    }
+  EXPECT_GE(operations, 30u);
+}
+
 TEST(OpenApi, TheFileInTheRepositoryIsTheServedDocument) {
   // Only the version differs (it is the build's). On a failure after a spec field changed:
   //   cp build/openapi.json docs/openapi.json
