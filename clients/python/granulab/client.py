@@ -14,6 +14,16 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Optional, Tuple, Union
+
+if TYPE_CHECKING:
+    from granulab.jobs import Job
+    from granulab.pictures import Picture
+    from granulab.sweeps import Sweep
+
+# A spec: a dict, a JSON string, or the path of a JSON file. A job: a Job or its id.
+Spec = Union[Dict[str, Any], str, "os.PathLike[str]"]
+JobRef = Union[int, "Job"]
 
 __all__ = ["Client", "GranulabError", "DEFAULT_SERVER", "TERMINAL"]
 
@@ -24,14 +34,15 @@ TERMINAL = ("succeeded", "failed", "cancelled")
 class GranulabError(Exception):
     """An error reported by the server (status is the HTTP status, 0 if the server is unreachable)."""
 
-    def __init__(self, status, code="error", message="", field=""):
+    def __init__(self, status: int, code: Optional[str] = "error", message: Optional[str] = "",
+                 field: Optional[str] = ""):
         self.status = int(status)
         self.code = code or "error"
         self.message = message or ""
         self.field = field or ""
         super().__init__(str(self))
 
-    def __str__(self):
+    def __str__(self) -> str:
         text = f"HTTP {self.status} {self.code}: {self.message}" if self.status else \
             f"{self.code}: {self.message}"
         if self.field:
@@ -42,7 +53,8 @@ class GranulabError(Exception):
 
 
 class Client:
-    def __init__(self, server=None, timeout=30.0, token=None, retries=3, ca_file=None, poll=0.5):
+    def __init__(self, server: Optional[str] = None, timeout: float = 30.0, token: Optional[str] = None,
+                 retries: int = 3, ca_file: Optional[str] = None, poll: float = 0.5):
         # token: an access token of a server started with --token-file (default: GRANULAB_TOKEN).
         # ca_file: for an https server, the PEM certificate(s) to trust beside the system's: a lab's own,
         # self-signed one (default: GRANULAB_CA_FILE). The server's name is checked against it.
@@ -62,7 +74,8 @@ class Client:
         self.watcher = None  # granulab.jobs.Watcher, started with the first Job
 
     # -- transport -------------------------------------------------------------------------------
-    def _request(self, method, path, query=None, body=None, raw=False, binary=False):
+    def _request(self, method: str, path: str, query: Optional[Dict[str, Any]] = None, body: Any = None,
+                 raw: bool = False, binary: bool = False) -> Any:
         for attempt in range(self.retries + 1):
             try:
                 return self._request_once(method, path, query, body, raw, binary)
@@ -75,7 +88,8 @@ class Client:
                     raise
                 time.sleep(0.5 * 2 ** attempt)
 
-    def _request_once(self, method, path, query=None, body=None, raw=False, binary=False):
+    def _request_once(self, method: str, path: str, query: Optional[Dict[str, Any]] = None, body: Any = None,
+                      raw: bool = False, binary: bool = False) -> Any:
         url = self.server + path
         if query:
             query = {k: v for k, v in query.items() if v is not None}
@@ -123,7 +137,7 @@ class Client:
         return result
 
     @staticmethod
-    def _error_from(status, text):
+    def _error_from(status: int, text: str) -> "GranulabError":
         try:
             err = json.loads(text).get("error") or {}
             if not isinstance(err, dict):
@@ -133,7 +147,7 @@ class Client:
         return GranulabError(status, err.get("code"), err.get("message"), err.get("field"))
 
     @staticmethod
-    def _spec_body(spec):
+    def _spec_body(spec: Spec) -> str:
         if isinstance(spec, dict):
             return json.dumps(spec)
         if isinstance(spec, (str, os.PathLike)) and os.path.exists(spec):
@@ -144,7 +158,7 @@ class Client:
         raise FileNotFoundError(f"spec file not found: {spec}")
 
     # -- API ---------------------------------------------------------------------------------------
-    def submit(self, spec, reuse=False, priority=None):
+    def submit(self, spec: Spec, reuse: bool = False, priority: Optional[int] = None) -> "Job":
         """Submit a spec (a dict, a JSON string, or a path to a JSON file). Returns its Job: a
         concurrent.futures.Future whose result() is the job's final status dict (JobFailed if it failed),
         watched by a thread of this client that polls the server (every `poll` s, Client(poll=...))."""
@@ -152,7 +166,7 @@ class Client:
 
         return Job(self, self.submit_id(spec, reuse=reuse, priority=priority))
 
-    def submit_id(self, spec, reuse=False, priority=None):
+    def submit_id(self, spec: Spec, reuse: bool = False, priority: Optional[int] = None) -> int:
         """Submit a spec; returns the new job's id only (nothing watches it)."""
         body = self._spec_body(spec)
         query = {}
@@ -162,15 +176,16 @@ class Client:
             query["priority"] = int(priority)
         return int(self._request("POST", "/v1/jobs", query, body)["id"])
 
-    def dry_run(self, spec):
+    def dry_run(self, spec: Spec) -> Dict[str, Any]:
         """What a spec would cost on this server, without queueing it: spheres, grains, steps, memory_bytes,
         expected_seconds (at the server's recent speed) and over_budget when it would be refused."""
         return self._request("POST", "/v1/jobs", {"dry_run": "true"}, self._spec_body(spec))
 
-    def status(self, job_id):
+    def status(self, job_id: JobRef) -> Dict[str, Any]:
         return self._request("GET", f"/v1/jobs/{int(job_id)}")
 
-    def wait(self, job_id, timeout=None, poll=0.5, on_progress=None):
+    def wait(self, job_id: JobRef, timeout: Optional[float] = None, poll: float = 0.5,
+             on_progress: Optional[Callable[[Dict[str, Any]], None]] = None) -> Dict[str, Any]:
         """Poll until the job finishes. Returns the final status dict if it succeeded; raises
         GranulabError on failed/cancelled and TimeoutError if `timeout` seconds pass first."""
         deadline = None if timeout is None else time.monotonic() + timeout
@@ -190,7 +205,8 @@ class Client:
                 raise TimeoutError(f"job {job_id} still {state} after {timeout} s")
             time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
 
-    def wait_all(self, job_ids, timeout=None, poll=1.0, on_progress=None):
+    def wait_all(self, job_ids: Iterable[JobRef], timeout: Optional[float] = None, poll: float = 1.0,
+                 on_progress: Optional[Callable[[List[Dict[str, Any]]], None]] = None) -> Dict[int, Dict[str, Any]]:
         """Poll until every job has finished; returns {id: final status dict} (failed and cancelled jobs
         included: check each "status"). on_progress(list of status dicts) is called at every poll; raises
         TimeoutError if `timeout` seconds pass first."""
@@ -209,12 +225,12 @@ class Client:
                 raise TimeoutError(f"{len(set(int(i) for i in job_ids)) - len(done)} jobs still unfinished after {timeout} s")
             time.sleep(poll if deadline is None else max(0.0, min(poll, deadline - time.monotonic())))
 
-    def curve(self, job_id):
+    def curve(self, job_id: JobRef) -> Dict[str, Any]:
         """The curve as columns: {"columns": [names], name: [values], ...}; while the job runs, the rows
         computed so far."""
         return self._request("GET", f"/v1/jobs/{int(job_id)}/curve")
 
-    def to_pandas(self, job_id):
+    def to_pandas(self, job_id: JobRef) -> Any:
         """The curve as a pandas DataFrame (pandas is never a dependency: ImportError without it)."""
         try:
             import pandas
@@ -223,7 +239,7 @@ class Client:
         c = self.curve(job_id)
         return pandas.DataFrame({name: c[name] for name in c["columns"]})
 
-    def snapshot_file(self, job_id, k, fmt="dump", step=None):
+    def snapshot_file(self, job_id: JobRef, k: int, fmt: str = "dump", step: Optional[float] = None) -> str:
         """Snapshot k as text in `fmt`: "dump" (LAMMPS, for OVITO; "dump_spheres": every sphere), "vtk" or
         "vtk_interfaces" (ParaView), "json",
         the contact network "contacts_vtk" or "contacts_dump" (a LAMMPS local dump), the grains' polyhedra "mesh_vtk", or
@@ -233,38 +249,40 @@ class Client:
             query["step"] = repr(float(step))
         return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}", query, raw=True)
 
-    def archive(self, job_id, path):
+    def archive(self, job_id: JobRef, path: str) -> str:
         """Saves everything of a job (spec, summary, curve, every snapshot in its nine files, all formats but the per-sphere dump_spheres) as a tar at `path`."""
         data = self._request("GET", f"/v1/jobs/{int(job_id)}/archive", raw=True, binary=True)
         with open(path, "wb") as f:
             f.write(data)
         return path
 
-    def curve_csv(self, job_id):
+    def curve_csv(self, job_id: JobRef) -> str:
         return self._request("GET", f"/v1/jobs/{int(job_id)}/curve", {"format": "csv"}, raw=True)
 
-    def snapshots(self, job_id):
+    def snapshots(self, job_id: JobRef) -> List[Dict[str, Any]]:
         return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots").get("snapshots", [])
 
-    def snapshot(self, job_id, k):
+    def snapshot(self, job_id: JobRef, k: int) -> Dict[str, Any]:
         return self._request("GET", f"/v1/jobs/{int(job_id)}/snapshots/{int(k)}")
 
-    def cancel(self, job_id):
+    def cancel(self, job_id: JobRef) -> Dict[str, Any]:
         return self._request("POST", f"/v1/jobs/{int(job_id)}/cancel")
 
-    def delete(self, job_id):
+    def delete(self, job_id: JobRef) -> Dict[str, Any]:
         """Deletes a finished job with its curve and snapshots (owner or admin)."""
         return self._request("DELETE", f"/v1/jobs/{int(job_id)}")
 
-    def set_priority(self, job_id, priority):
+    def set_priority(self, job_id: JobRef, priority: int) -> Dict[str, Any]:
         """A queued job's new priority, -100..100, higher first (owner or admin)."""
         return self._request("POST", f"/v1/jobs/{int(job_id)}/priority", {"value": int(priority)})
 
-    def list(self, status=None, limit=50, offset=0, owner=None):
+    def list(self, status: Optional[str] = None, limit: int = 50, offset: int = 0,
+             owner: Optional[str] = None) -> List[Dict[str, Any]]:
         return self._request("GET", "/v1/jobs", {"status": status, "limit": limit, "offset": offset,
                                                  "owner": owner}).get("jobs", [])
 
-    def submit_sweep(self, spec, vary, mode="product", label="", priority=None):
+    def submit_sweep(self, spec: Dict[str, Any], vary: Dict[str, List[Any]], mode: str = "product", label: str = "",
+                     priority: Optional[int] = None) -> "Sweep":
         """A sweep of `spec` over `vary` ({"dotted.key": [values]}); returns a granulab.Sweep (its jobs as Futures,
         frame(), curves(): granulab.sweeps).
 
@@ -277,30 +295,31 @@ class Client:
         sweep_id, job_ids = self.submit_sweep_ids(spec, vary, mode=mode, label=label, priority=priority)
         return Sweep(self, sweep_id, job_ids, spec if isinstance(spec, dict) else {}, dict(vary))
 
-    def submit_sweep_ids(self, spec, vary, mode="product", label="", priority=None):
+    def submit_sweep_ids(self, spec: Dict[str, Any], vary: Dict[str, List[Any]], mode: str = "product",
+                         label: str = "", priority: Optional[int] = None) -> Tuple[int, List[int]]:
         """submit_sweep's request alone: returns (sweep id, [job ids])."""
         body = json.dumps({"spec": spec, "vary": vary, "mode": mode, "label": label})
         r = self._request("POST", "/v1/sweeps", {"priority": priority}, body=body)
         return r["id"], r["jobs"]
 
-    def sweep(self, sweep_id):
+    def sweep(self, sweep_id: int) -> Dict[str, Any]:
         """The sweep with its jobs: values, status, progress, first yield and peak."""
         return self._request("GET", f"/v1/sweeps/{int(sweep_id)}")
 
-    def sweeps(self, limit=50, offset=0, owner=None):
+    def sweeps(self, limit: int = 50, offset: int = 0, owner: Optional[str] = None) -> List[Dict[str, Any]]:
         return self._request("GET", "/v1/sweeps", {"limit": limit, "offset": offset, "owner": owner}).get("sweeps", [])
 
-    def cancel_sweep(self, sweep_id):
+    def cancel_sweep(self, sweep_id: int) -> Dict[str, Any]:
         return self._request("POST", f"/v1/sweeps/{int(sweep_id)}/cancel")
 
-    def health(self):
+    def health(self) -> Dict[str, Any]:
         return self._request("GET", "/v1/health")
 
-    def experiments(self):
+    def experiments(self) -> List[Dict[str, Any]]:
         """Every experiment the server runs: its spec fields (default, range, unit), curve columns and headline."""
         return self._request("GET", "/v1/experiments").get("experiments", [])
 
-    def experiment(self, name):
+    def experiment(self, name: str) -> Dict[str, Any]:
         """One experiment's entry of GET /v1/experiments (fields, curve columns, headline), asked once per client
         (a server's experiments do not change while it runs). KeyError for a name the server does not run."""
         cache = self.__dict__.setdefault("_experiments", {})
@@ -311,16 +330,16 @@ class Client:
             raise KeyError(f"the server runs no experiment named {name!r}")
         return cache[name]
 
-    def headline(self, experiment):
+    def headline(self, experiment: str) -> Dict[str, Any]:
         """What `experiment` (its name) shows first, as GET /v1/experiments has it: its key values' labels, units
         and summary paths among them (for key_values()). KeyError for a name the server does not run."""
         return self.experiment(experiment)["headline"]
 
-    def field_defaults(self, experiment):
+    def field_defaults(self, experiment: str) -> Dict[str, Any]:
         """{dotted spec field: its default} of an experiment."""
         return {f["field"]: f.get("default") for f in self.experiment(experiment).get("fields", [])}
 
-    def picture(self, path, **query):
+    def picture(self, path: str, **query: Any) -> "Picture":
         """An SVG the server draws (the routes ending in .svg), as a Picture: a str that a notebook shows inline."""
         from granulab.pictures import Picture
 

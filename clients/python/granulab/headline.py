@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import collections
+from typing import Any, Dict, List
 
 __all__ = ["KeyValue", "key_values"]
 
@@ -11,7 +12,7 @@ KeyValue.__doc__ = """One key value of a job: its label, its number (None when t
 reason there is none when the job's summary says it was not found (else None)."""
 
 
-def _at(obj, dotted):
+def _at(obj: Any, dotted: str) -> Any:
     """The value at a dotted path of nested dicts ("first_yield.strain"), or None."""
     for key in dotted.split("."):
         if not isinstance(obj, dict):
@@ -20,7 +21,7 @@ def _at(obj, dotted):
     return obj
 
 
-def key_values(item, headline):
+def key_values(item: Dict[str, Any], headline: Dict[str, Any]) -> List[KeyValue]:
     """A job's key values as its experiment's headline names them: a list of KeyValue(label, value, unit, reason),
     one per headline value, in the headline's order (what the web page, `granulab wait` and sweep.csv show).
 
