@@ -1085,6 +1085,11 @@ class OpenApiConformanceTest(unittest.TestCase):
                     Case("GET /v1/openapi.json", "/v1/openapi.json", headers=AS_ALICE, expect=200),
                     Case("GET /v1/experiments", "/v1/experiments", headers=AS_ALICE, expect=200),
                     Case("GET /v1/examples", "/v1/examples", headers=AS_ALICE, expect=200),
+                    # A priority above 0 is an admin's (checked before the quota): 403, declared on both routes.
+                    Case("POST /v1/jobs", "/v1/jobs?priority=5", dumps(dict(TWO, label="jump")), AS_ALICE, expect=403,
+                         what="a non-admin's priority"),
+                    Case("POST /v1/sweeps", "/v1/sweeps?priority=5", dumps({"spec": TWO, "vary": {"label": ["a"]}}),
+                         AS_ALICE, expect=403, what="a non-admin's priority"),
                     # The quota: boss has a job queued, the limit is one.
                     Case("POST /v1/jobs", "/v1/jobs", dumps(dict(TWO, label="over quota")), AS_BOSS, expect=429),
                     Case("POST /v1/sweeps", "/v1/sweeps", dumps({"spec": TWO, "vary": {"label": ["a", "b"]}}),
