@@ -16,6 +16,8 @@ import urllib.parse
 import urllib.request
 from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Optional, Tuple, Union
 
+from granulab.frames import pandas_module
+
 if TYPE_CHECKING:
     from granulab.jobs import Job
     from granulab.pictures import Picture
@@ -232,10 +234,7 @@ class Client:
 
     def to_pandas(self, job_id: JobRef) -> Any:
         """The curve as a pandas DataFrame (pandas is never a dependency: ImportError without it)."""
-        try:
-            import pandas
-        except ImportError:
-            raise ImportError("to_pandas needs pandas (Debian: python3-pandas); curve() gives the same columns") from None
+        pandas = pandas_module()  # before the request: ImportError naming what to install
         c = self.curve(job_id)
         return pandas.DataFrame({name: c[name] for name in c["columns"]})
 

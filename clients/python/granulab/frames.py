@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from typing import Any, Dict, List, Optional, Tuple
 
+from granulab.headline import dotted
+
 __all__ = ["pandas_module", "to_frame", "headline_columns", "snapshot_columns", "plain_name"]
 
 Columns = Dict[str, List[Any]]
@@ -27,15 +29,6 @@ def to_frame(columns: Columns, units: Optional[Dict[str, str]] = None):
     if units:
         frame.attrs["units"] = dict(units)
     return frame
-
-
-def dotted(obj: Any, path: str) -> Any:
-    """The value at a dotted path of nested dicts ("loading.confining_pressure"), or None."""
-    for key in path.split("."):
-        if not isinstance(obj, dict):
-            return None
-        obj = obj.get(key)
-    return obj
 
 
 def _scale(scale: Dict[str, Any], spec: Dict[str, Any], defaults: Dict[str, Any]) -> Tuple[float, str]:

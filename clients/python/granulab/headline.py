@@ -5,16 +5,16 @@ from __future__ import annotations
 import collections
 from typing import Any, Dict, List
 
-__all__ = ["KeyValue", "key_values"]
+__all__ = ["KeyValue", "key_values", "dotted"]
 
 KeyValue = collections.namedtuple("KeyValue", "label value unit reason")
 KeyValue.__doc__ = """One key value of a job: its label, its number (None when there is none), its unit, and the
 reason there is none when the job's summary says it was not found (else None)."""
 
 
-def _at(obj: Any, dotted: str) -> Any:
+def dotted(obj: Any, path: str) -> Any:
     """The value at a dotted path of nested dicts ("first_yield.strain"), or None."""
-    for key in dotted.split("."):
+    for key in path.split("."):
         if not isinstance(obj, dict):
             return None
         obj = obj.get(key)
@@ -46,12 +46,12 @@ def key_values(item: Dict[str, Any], headline: Dict[str, Any]) -> List[KeyValue]
         summary = {}
     values = []
     for v in (headline or {}).get("values", []):
-        group = _at(summary, v["status"]) if v.get("status") else None
+        group = dotted(summary, v["status"]) if v.get("status") else None
         if isinstance(group, dict) and group.get("found") is False:
             reason = group.get("reason")
             values.append(KeyValue(v["label"], None, v["unit"], reason if isinstance(reason, str) else "none"))
             continue
-        number = _at(summary, v["key"])
+        number = dotted(summary, v["key"])
         found = isinstance(number, (int, float)) and not isinstance(number, bool)
         values.append(KeyValue(v["label"], number if found else None, v["unit"], None))
     return values

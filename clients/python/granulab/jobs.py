@@ -89,7 +89,7 @@ class Job(concurrent.futures.Future):
             unit_of = {c["name"]: c["unit"] for c in experiment.get("curve_columns", [])}
             return {name: curve[name] for name in curve["columns"]}, unit_of
         spec = (self.last or {}).get("spec") or self.status().get("spec") or {}
-        defaults = {f["field"]: f.get("default") for f in experiment.get("fields", [])}
+        defaults = self.client.field_defaults(experiment["name"])
         return headline_columns(curve, experiment["headline"], spec, defaults, units)
 
     def frame(self, units: Optional[str] = None):

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Dict, List, Optional
 
-from granulab.frames import Columns, dotted, headline_columns, plain_name, to_frame
+from granulab.frames import Columns, plain_name, to_frame
+from granulab.headline import dotted
 from granulab.jobs import Job
 from granulab.progress import wait
 
@@ -104,28 +105,26 @@ class Sweep:
     def curve_rows(self, units: str = "natural") -> Columns:
         """Every job's curve as its headline draws it (x and each series, `units` "natural" or "si"), stacked:
         `job`, the varied fields, then the curve's columns; the jobs that have no curve rows yet add none."""
-        headline = self.client.headline(self.experiment)
-        defaults = self.client.field_defaults(self.experiment)
+        return self._curve_table(units)[0]
+
+    def curves(self, units: str = "natural"):
+        """curve_rows() as one long pandas DataFrame; attrs["units"] gives each curve column's unit."""
+        return to_frame(*self._curve_table(units))
+
+    def _curve_table(self, units: str):
+        """(curve_rows' columns, {curve column: unit})."""
+        items = {int(i["id"]): i for i in self.info().get("jobs", [])}
         out: Columns = {}
         units_of: Dict[str, str] = {}
-        items = {int(i["id"]): i for i in self.info().get("jobs", [])}
         for job in self.jobs:
-            spec = (job.last or {}).get("spec") or job.status().get("spec") or {}
-            curve = job.curve()
-            cols, units_of = headline_columns(curve, headline, spec, defaults, units)
+            cols, units_of = job.curve_rows(units)
             n = len(next(iter(cols.values()))) if cols else 0
             point = self._varied(items.get(job.id, {}))
             for name, value in [("job", job.id)] + list(point.items()):
                 out.setdefault(name, []).extend([value] * n)
             for name, values in cols.items():
                 out.setdefault(name, []).extend(values)
-        self.curve_units = units_of
-        return out
-
-    def curves(self, units: str = "natural"):
-        """curve_rows() as one long pandas DataFrame; attrs["units"] gives each curve column's unit."""
-        rows = self.curve_rows(units)
-        return to_frame(rows, self.curve_units)
+        return out, units_of
 
     def curves_svg(self, units: str = "natural", y: Optional[str] = None):
         """The server's picture of the sweep's curves overlaid (shown inline in a notebook)."""
